@@ -1,0 +1,96 @@
+// cli.cpp: the command table, common options, and the only place that catches exceptions.
+#include "cli.h"
+
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "ltm/core/error.h"
+#include "ltm/core/log.h"
+#include "ltm/core/parallel.h"
+#include "ltm/core/startup.h"
+#ifdef LTM_WITH_TORCH
+#include "ltm/nn/torch_runtime.h"
+#endif
+
+namespace ltm::cli {
+
+const std::vector<Command> &commands() {
+    static const std::vector<Command> table = {make_generate_command(), make_sample_command(),
+                                               make_preview_command(), make_info_command()};
+    return table;
+}
+
+namespace {
+
+void add_common_options(CLI::App &sub, CommonOptions &c) {
+    sub.add_option("--threads", c.threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+    sub.add_option("--seed", c.seed, "Random seed; outputs are a pure function of it")->capture_default_str();
+    sub.add_flag("-q,--quiet", c.quiet, "Only warnings and errors");
+    sub.add_flag("-v,--verbose", c.verbose, "Debug output");
+}
+
+std::string version_string() {
+    std::string v = "ltm 0.1.0";
+#ifdef LTM_WITH_TORCH
+    v += ", " + torch_runtime_description();
+#else
+    v += ", built without libtorch";
+#endif
+    return v;
+}
+
+}  // namespace
+
+int run_cli(const std::vector<std::string> &args) {
+    configure_process();
+    CLI::App app("ltm: generalizable neural global illumination (light transport 3D embedding)", "ltm");
+    app.require_subcommand(1);
+    app.set_version_flag("--version", version_string());
+    app.get_formatter()->column_width(34);
+    std::vector<CommonOptions> common(commands().size());
+    std::vector<CLI::App *> subs;
+    for (size_t i = 0; i < commands().size(); ++i) {
+        const Command &cmd = commands()[i];
+        CLI::App *sub = app.add_subcommand(cmd.name, cmd.help);
+        add_common_options(*sub, common[i]);
+        cmd.setup(*sub, common[i]);
+        subs.push_back(sub);
+    }
+    std::vector<std::string> reversed(args.rbegin(), args.rend());   // CLI11 parses a reversed vector
+    try {
+        app.parse(reversed);
+    } catch (const CLI::ParseError &e) {
+        if (e.get_exit_code() == 0) {   // --help / --version
+            app.exit(e, std::cout, std::cerr);
+            return 0;
+        }
+        std::string cmd_name;
+        for (CLI::App *s : subs)
+            if (s->parsed()) cmd_name = " " + s->get_name();
+        std::cerr << "ltm" << cmd_name << ": usage error: " << e.what() << "\n"
+                  << "Run 'ltm" << cmd_name << " --help' for the options.\n";
+        return 2;
+    }
+    for (size_t i = 0; i < subs.size(); ++i) {
+        if (!subs[i]->parsed()) continue;
+        const CommonOptions &c = common[i];
+        try {
+            set_log_level(c.quiet ? LogLevel::quiet : (c.verbose ? LogLevel::verbose : LogLevel::normal));
+            set_num_threads(c.threads);
+#ifdef LTM_WITH_TORCH
+            configure_torch_threads(num_threads());
+#endif
+            commands()[i].run(c);
+            return 0;
+        } catch (const std::exception &e) {
+            // ltm::Error is bad input; anything else (std::bad_alloc, logic_error) is reported the
+            // same way: one line, exit 1, and the command's atomic writers left nothing behind.
+            std::cerr << "ltm " << subs[i]->get_name() << ": error: " << e.what() << "\n";
+            return 1;
+        }
+    }
+    return 2;
+}
+
+}  // namespace ltm::cli

@@ -1,0 +1,40 @@
+// cli.h: the ltm command line as a library: run_cli() is what main() calls and what tests call.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace ltm::cli {
+
+/// Options every subcommand takes (STYLE.md: --threads, --seed, --quiet/--verbose everywhere).
+struct CommonOptions {
+    int threads = 0;        ///< 0 = all cores
+    uint64_t seed = 0;
+    bool quiet = false, verbose = false;
+};
+
+/// One subcommand: `setup` declares its options on `sub`, `run` executes after parsing.
+struct Command {
+    std::string name, help;
+    std::function<void(CLI::App &sub, CommonOptions &common)> setup;
+    std::function<void(const CommonOptions &common)> run;
+};
+
+/// The command table (one file per command: cmd_<name>.cpp).
+const std::vector<Command> &commands();
+
+Command make_generate_command();
+Command make_sample_command();
+Command make_preview_command();
+Command make_info_command();
+
+/// Parses and runs `args` (without the program name). Exit codes: 0 ok, 1 error (message
+/// "ltm <cmd>: error: <what>" on stderr), 2 usage error.
+int run_cli(const std::vector<std::string> &args);
+
+}  // namespace ltm::cli

@@ -1,0 +1,43 @@
+// file_util.h: whole-file reads with one-line errors, and atomic writes (tmp + rename), so a
+// failed or interrupted command never leaves a half-written output behind.
+#pragma once
+
+#include <fstream>
+#include <string>
+
+namespace ltm {
+
+/// Reads a whole file; throws "path: cannot read: <reason>".
+std::string read_file(const std::string &path);
+
+/// Writes to "<path>.tmp.<pid>" and renames onto `path` on commit(); removes the temporary
+/// file if destroyed without commit (an exception unwound through the writer).
+class AtomicFile {
+public:
+    explicit AtomicFile(std::string path, bool binary = true);
+    ~AtomicFile();
+    AtomicFile(const AtomicFile &) = delete;
+    AtomicFile &operator=(const AtomicFile &) = delete;
+    std::ostream &stream() { return m_out; }
+    const std::string &tmp_path() const { return m_tmp; }
+    /// Flushes, checks for write errors, renames into place.
+    void commit();
+
+private:
+    std::string m_path, m_tmp;
+    std::ofstream m_out;
+    bool m_committed = false;
+};
+
+/// Writes a string atomically.
+void write_file_atomic(const std::string &path, const std::string &contents);
+
+/// Creates a directory and its parents; throws with the path if impossible.
+void create_directories(const std::string &dir);
+
+/// Lower-case extension without the dot ("json" for "a/b.scene.json").
+std::string file_extension(const std::string &path);
+/// Directory part of a path ("" for a bare file name).
+std::string parent_dir(const std::string &path);
+
+}  // namespace ltm

@@ -1,0 +1,43 @@
+// surface_sampler.h: area-weighted, stratified, low-discrepancy sampling of scene surfaces
+// (paper §4.1): scene points carry p, n, albedo, emission; query points p, n, albedo.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "ltm/points/point_set.h"
+#include "ltm/scene/scene.h"
+
+namespace ltm {
+
+struct SurfaceSample {
+    Vec3f p, n;                 ///< position (m) and unit geometric normal (winding side)
+    Vec3f albedo, emission;     ///< texture values at the sample's uv
+    uint32_t mesh = 0, triangle = 0;
+};
+
+/// Independent sample streams of one scene (different points for the same seed).
+enum class SampleStream : uint64_t { scene_points = 1, query_points = 2 };
+
+/// Largest point count one call accepts (memory guard: 48 bytes per sample).
+inline constexpr int64_t k_max_sample_count = 50'000'000;
+
+/// Returns true for samples to drop (e.g. enclosed surfaces, see render/enclosure.h).
+using SampleFilter = std::function<bool(const SurfaceSample &)>;
+
+/// n_points samples, area-weighted over all triangles. Triangle choice is stratified in one
+/// dimension ((i + ξ_i)/n through the area CDF), the in-triangle position follows Roberts' R2
+/// sequence with a seeded shift, so every triangle's samples are well spread. Sample i is a pure
+/// function of (seed, stream, n_points, i): identical at any thread count.
+/// With a filter, rejected samples are replaced by drawing more candidates; the kept ones are a
+/// seeded uniform subset, still area-weighted over the surfaces that pass the filter.
+std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, uint64_t seed,
+                                          SampleStream stream, const SampleFilter &filter = {});
+
+/// [M, 12] scene points (scene_point_columns()).
+PointSet to_scene_points(const std::vector<SurfaceSample> &samples);
+/// [N, 9] query points (query_point_columns()).
+PointSet to_query_points(const std::vector<SurfaceSample> &samples);
+
+}  // namespace ltm

@@ -1,0 +1,39 @@
+// embree_accel.h: the ONLY interface to Embree. RAII over device and scene; Embree errors are
+// recorded by the device callback and rethrown as ltm::Error after each call that can fail.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "ltm/render/ray.h"
+#include "ltm/scene/scene.h"
+
+// Opaque Embree handles (from rtcore_device.h / rtcore_scene.h) without including Embree.
+typedef struct RTCDeviceTy *RTCDevice;
+typedef struct RTCSceneTy *RTCScene;
+
+namespace ltm {
+
+class EmbreeAccel {
+public:
+    /// Builds a BVH over all meshes (geometry id = mesh index). Keeps a reference to `scene`.
+    explicit EmbreeAccel(const Scene &scene);
+    ~EmbreeAccel();
+    EmbreeAccel(const EmbreeAccel &) = delete;
+    EmbreeAccel &operator=(const EmbreeAccel &) = delete;
+
+    /// Closest hit in (tmin, tmax), or nothing. Thread-safe.
+    std::optional<Hit> intersect(const Ray &ray) const;
+    /// True if anything is hit in (tmin, tmax). Thread-safe.
+    bool occluded(const Ray &ray) const;
+    const Scene &scene() const { return m_scene; }
+
+private:
+    void throw_if_error(const char *during) const;
+    const Scene &m_scene;
+    RTCDevice m_device = nullptr;
+    RTCScene m_rtc_scene = nullptr;
+    mutable std::string m_error;   // set by the device error callback
+};
+
+}  // namespace ltm

@@ -1,0 +1,25 @@
+// enclosure.h: detects surface points that lie inside closed solids (the floor under a carpet
+// or under a box-shaped piece of furniture): light can never reach them, so `ltm sample
+// --exclude-enclosed` drops them.
+#pragma once
+
+#include "ltm/points/surface_sampler.h"
+#include "ltm/render/embree_accel.h"
+
+namespace ltm {
+
+struct EnclosureTest {
+    int n_rays = 32;                  ///< stratified cosine-weighted directions (4 × 8 strata)
+    float back_face_fraction = 0.9f;  ///< enclosed if at least this fraction of rays hit a back face
+};
+
+/// True if at least `back_face_fraction` of the rays leaving (p, n) first hit the back side of a
+/// surface, i.e. the point sits inside a closed, outward-facing solid. Deterministic (fixed
+/// directions). Limitation: a face pressed against the floor from above (a carpet's underside)
+/// looks into the space behind the floor, which has no surfaces, so it is not detected.
+bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest &cfg = {});
+
+/// A SampleFilter for sample_surface() that rejects enclosed samples.
+SampleFilter enclosed_filter(const EmbreeAccel &accel, const EnclosureTest &cfg = {});
+
+}  // namespace ltm

@@ -1,0 +1,41 @@
+// scene.h: the scene model shared by every layer: materials, world-space meshes, cameras.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ltm/scene/camera.h"
+#include "ltm/scene/material.h"
+#include "ltm/scene/mesh.h"
+
+namespace ltm {
+
+struct Scene {
+    std::string name;
+    std::vector<Material> materials;
+    std::vector<TriangleMesh> meshes;
+    std::vector<Camera> cameras;
+    nlohmann::ordered_json metadata = nlohmann::ordered_json::object();  ///< free-form provenance
+
+    Bounds3f bounds() const;
+    size_t n_triangles() const;
+    double total_area() const;
+    /// Index of the material with this name, or -1.
+    int find_material(const std::string &name) const;
+    /// Adds a material and returns its index (names must be unique).
+    int add_material(Material m);
+    bool has_emitter() const;
+};
+
+struct ValidateOptions {
+    bool require_emitter = true;      ///< a scene without light is an error for rendering/baking
+    float min_triangle_area = 1e-10f; ///< m²; smaller counts as degenerate
+};
+
+/// Throws "<where>: <problem>" for: no meshes, non-finite positions/uvs, indices out of range,
+/// degenerate triangles, undefined materials, no emitter (if required), bad cameras.
+void validate_scene(const Scene &scene, const std::string &where, const ValidateOptions &opt = {});
+
+}  // namespace ltm

@@ -1,0 +1,76 @@
+// file_util.cpp: std::filesystem with errors turned into ltm::Error naming the path.
+#include "ltm/core/file_util.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "ltm/core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace ltm {
+
+std::string read_file(const std::string &path) {
+    if (fs::is_directory(path)) LTM_THROW(path, ": is a directory, expected a file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) LTM_THROW(path, ": cannot read: ", std::strerror(errno));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) LTM_THROW(path, ": read error");
+    return ss.str();
+}
+
+AtomicFile::AtomicFile(std::string path, bool binary) : m_path(std::move(path)) {
+    m_tmp = m_path + ".tmp." + std::to_string(::getpid());
+    const std::string dir = parent_dir(m_path);
+    if (!dir.empty() && !fs::is_directory(dir))
+        LTM_THROW(m_path, ": cannot write: directory '", dir, "' does not exist");
+    m_out.open(m_tmp, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);
+    if (!m_out) LTM_THROW(m_path, ": cannot write: ", std::strerror(errno));
+}
+
+AtomicFile::~AtomicFile() {
+    if (!m_committed) {
+        m_out.close();
+        std::error_code ec;
+        fs::remove(m_tmp, ec);
+    }
+}
+
+void AtomicFile::commit() {
+    m_out.flush();
+    if (!m_out) LTM_THROW(m_path, ": write failed (disk full?)");
+    m_out.close();
+    std::error_code ec;
+    fs::rename(m_tmp, m_path, ec);
+    if (ec) LTM_THROW(m_path, ": cannot rename into place: ", ec.message());
+    m_committed = true;
+}
+
+void write_file_atomic(const std::string &path, const std::string &contents) {
+    AtomicFile f(path);
+    f.stream().write(contents.data(), std::streamsize(contents.size()));
+    f.commit();
+}
+
+void create_directories(const std::string &dir) {
+    if (dir.empty()) return;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir)) LTM_THROW(dir, ": cannot create directory: ", ec.message());
+}
+
+std::string file_extension(const std::string &path) {
+    std::string ext = fs::path(path).extension().string();
+    if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
+    for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+std::string parent_dir(const std::string &path) { return fs::path(path).parent_path().string(); }
+
+}  // namespace ltm

@@ -1,0 +1,19 @@
+// startup.cpp: malloc tuning (see startup.h).
+#include "ltm/core/startup.h"
+
+#include <malloc.h>
+
+namespace ltm {
+
+void configure_process() {
+    static bool done = false;
+    if (done) return;
+    done = true;
+    // Serve even huge blocks from the heap (no per-allocation mmap), and keep freed memory
+    // instead of returning it to the OS, so repeated tensor/buffer allocations stay warm.
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    mallopt(M_TOP_PAD, 64 << 20);
+}
+
+}  // namespace ltm

@@ -1,0 +1,145 @@
+// surface_sampler.cpp: stratified area sampling (see surface_sampler.h for the construction).
+#include "ltm/points/surface_sampler.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "ltm/core/error.h"
+#include "ltm/core/parallel.h"
+#include "ltm/core/rng.h"
+#include "ltm/core/sampling.h"
+
+namespace ltm {
+
+namespace {
+
+struct TriangleRef {
+    uint32_t mesh, triangle;
+};
+
+// Area CDF over all triangles in scene order (double: 10⁶ triangles of mixed size stay exact
+// enough that no triangle gets a zero-width interval).
+struct AreaDistribution {
+    std::vector<TriangleRef> tris;
+    std::vector<double> cdf;   // cdf[k] = area of triangles < k, normalised; cdf.back() = 1
+    explicit AreaDistribution(const Scene &scene) {
+        cdf.push_back(0.0);
+        double sum = 0.0;
+        for (size_t m = 0; m < scene.meshes.size(); ++m)
+            for (size_t t = 0; t < scene.meshes[m].n_triangles(); ++t) {
+                sum += double(scene.meshes[m].area(t));
+                tris.push_back({uint32_t(m), uint32_t(t)});
+                cdf.push_back(sum);
+            }
+        if (!(sum > 0.0)) LTM_THROW("sample_surface(): scene '", scene.name, "' has zero surface area");
+        for (double &c : cdf) c /= sum;
+        cdf.back() = 1.0;
+    }
+    size_t find(double u) const {   // k with cdf[k] <= u < cdf[k+1]
+        const auto it = std::upper_bound(cdf.begin(), cdf.end(), u);
+        return std::min(size_t(it - cdf.begin()) - 1, tris.size() - 1);
+    }
+};
+
+SurfaceSample make_sample(const Scene &scene, TriangleRef ref, Vec2f u) {
+    const TriangleMesh &mesh = scene.meshes[ref.mesh];
+    const Material &mat = scene.materials[size_t(mesh.material)];
+    const Vec2f b = sample_uniform_triangle(u);
+    const float b2 = 1.f - b.x - b.y;
+    SurfaceSample s;
+    s.p = mesh.vertex(ref.triangle, 0) * b.x + mesh.vertex(ref.triangle, 1) * b.y +
+          mesh.vertex(ref.triangle, 2) * b2;
+    s.n = normalize(mesh.cross_normal(ref.triangle));
+    const Vec2f t0 = mesh.uv(ref.triangle, 0), t1 = mesh.uv(ref.triangle, 1), t2 = mesh.uv(ref.triangle, 2);
+    const Vec2f uv{t0.x * b.x + t1.x * b.y + t2.x * b2, t0.y * b.x + t1.y * b.y + t2.y * b2};
+    s.albedo = mat.albedo.eval(uv);
+    s.emission = mat.emission.eval(uv);
+    s.mesh = ref.mesh;
+    s.triangle = ref.triangle;
+    return s;
+}
+
+std::vector<SurfaceSample> draw(const Scene &scene, const AreaDistribution &dist, int64_t n,
+                                uint64_t seed, SampleStream stream) {
+    std::vector<SurfaceSample> out(static_cast<size_t>(n));
+    const uint64_t key = hash_keys({seed, uint64_t(stream), uint64_t(n)});
+    Pcg32 shift_rng(key);
+    const Vec2f shift{shift_rng.next_float(), shift_rng.next_float()};
+    parallel_for(0, n, 4096, [&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; ++i) {
+            Pcg32 rng(hash_keys({key, uint64_t(i)}));
+            const double u0 = (double(i) + rng.next_double()) / double(n);
+            out[size_t(i)] = make_sample(scene, dist.tris[dist.find(u0)], r2_sequence(uint64_t(i), shift));
+        }
+    });
+    return out;
+}
+
+}  // namespace
+
+std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, uint64_t seed,
+                                          SampleStream stream, const SampleFilter &filter) {
+    if (n_points <= 0) LTM_THROW("sample_surface(): point count must be > 0, got ", n_points);
+    if (n_points > k_max_sample_count)
+        LTM_THROW("sample_surface(): point count ", n_points, " exceeds the limit of ", k_max_sample_count);
+    const AreaDistribution dist(scene);
+    if (!filter) return draw(scene, dist, n_points, seed, stream);
+
+    // Rejection: draw a stratified candidate set large enough that >= n_points survive, then
+    // keep a seeded uniform subset of the survivors (in candidate order, so strata stay spread).
+    int64_t n_candidates = n_points;
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        std::vector<SurfaceSample> cand = draw(scene, dist, n_candidates, seed, stream);
+        std::vector<uint8_t> keep(cand.size());
+        parallel_for(0, int64_t(cand.size()), 1024, [&](int64_t i0, int64_t i1) {
+            for (int64_t i = i0; i < i1; ++i) keep[size_t(i)] = !filter(cand[size_t(i)]);
+        });
+        std::vector<int64_t> kept;
+        for (size_t i = 0; i < cand.size(); ++i)
+            if (keep[i]) kept.push_back(int64_t(i));
+        if (int64_t(kept.size()) >= n_points) {
+            const uint64_t key = hash_keys({seed, uint64_t(stream), 0x5e1ec7ull});
+            std::vector<std::pair<uint64_t, int64_t>> prio;
+            for (int64_t i : kept) prio.push_back({hash_keys({key, uint64_t(i)}), i});
+            std::nth_element(prio.begin(), prio.begin() + n_points, prio.end());
+            prio.resize(size_t(n_points));
+            std::sort(prio.begin(), prio.end(), [](auto &a, auto &b) { return a.second < b.second; });
+            std::vector<SurfaceSample> out;
+            out.reserve(size_t(n_points));
+            for (const auto &pr : prio) out.push_back(cand[size_t(pr.second)]);
+            return out;
+        }
+        if (kept.empty() && attempt > 0)
+            LTM_THROW("sample_surface(): every candidate point was rejected (all surfaces enclosed?)");
+        const double frac = std::max(double(kept.size()) / double(cand.size()), 0.01);
+        const int64_t next = int64_t(double(n_points) / frac * 1.1) + 64;
+        if (next > k_max_sample_count)
+            LTM_THROW("sample_surface(): only ", 100 * frac, "% of the surface passes the filter; ",
+                      n_points, " points would need more than ", k_max_sample_count, " candidates");
+        n_candidates = std::max(next, n_candidates + 64);
+    }
+    LTM_THROW("sample_surface(): could not draw ", n_points, " points that pass the filter");
+}
+
+PointSet to_scene_points(const std::vector<SurfaceSample> &samples) {
+    PointSet ps(scene_point_columns(), samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+        ps.set_vec3(i, 0, samples[i].p);
+        ps.set_vec3(i, 3, samples[i].n);
+        ps.set_vec3(i, 6, samples[i].albedo);
+        ps.set_vec3(i, 9, samples[i].emission);
+    }
+    return ps;
+}
+
+PointSet to_query_points(const std::vector<SurfaceSample> &samples) {
+    PointSet ps(query_point_columns(), samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) {
+        ps.set_vec3(i, 0, samples[i].p);
+        ps.set_vec3(i, 3, samples[i].n);
+        ps.set_vec3(i, 6, samples[i].albedo);
+    }
+    return ps;
+}
+
+}  // namespace ltm

@@ -1,0 +1,100 @@
+// embree_accel.cpp: Embree 3 behind one file (STYLE.md rule 6).
+#include "ltm/render/embree_accel.h"
+
+#include <cstring>
+
+#include <embree3/rtcore.h>
+
+#include "ltm/core/error.h"
+
+namespace ltm {
+
+namespace {
+void on_embree_error(void *user, RTCError code, const char *str) {
+    auto *msg = static_cast<std::string *>(user);
+    if (msg->empty()) *msg = "Embree error " + std::to_string(int(code)) + ": " + (str ? str : "");
+}
+}  // namespace
+
+EmbreeAccel::EmbreeAccel(const Scene &scene) : m_scene(scene) {
+    m_device = rtcNewDevice(nullptr);
+    if (!m_device) LTM_THROW("EmbreeAccel: cannot create Embree device (error ", int(rtcGetDeviceError(nullptr)), ")");
+    rtcSetDeviceErrorFunction(m_device, on_embree_error, &m_error);
+    m_rtc_scene = rtcNewScene(m_device);
+    rtcSetSceneBuildQuality(m_rtc_scene, RTC_BUILD_QUALITY_HIGH);
+    throw_if_error("creating the scene");
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh &mesh = scene.meshes[m];
+        RTCGeometry geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // New (Embree-owned, padded) buffers: Embree may read 16 bytes past the last vertex.
+        auto *v = static_cast<float *>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), mesh.positions.size()));
+        auto *idx = static_cast<uint32_t *>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                    3 * sizeof(uint32_t), mesh.n_triangles()));
+        if (!v || !idx) {
+            rtcReleaseGeometry(geom);
+            throw_if_error("allocating geometry buffers");
+            LTM_THROW("EmbreeAccel: out of memory for mesh '", mesh.name, "'");
+        }
+        std::memcpy(v, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
+        std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(m_rtc_scene, geom, unsigned(m));
+        rtcReleaseGeometry(geom);
+        throw_if_error("adding a mesh");
+    }
+    rtcCommitScene(m_rtc_scene);
+    throw_if_error("building the BVH");
+}
+
+EmbreeAccel::~EmbreeAccel() {
+    if (m_rtc_scene) rtcReleaseScene(m_rtc_scene);
+    if (m_device) rtcReleaseDevice(m_device);
+}
+
+void EmbreeAccel::throw_if_error(const char *during) const {
+    if (!m_error.empty()) {
+        const std::string e = m_error;
+        m_error.clear();
+        LTM_THROW("EmbreeAccel: ", during, ": ", e);
+    }
+}
+
+namespace {
+RTCRay to_rtc(const Ray &r) {
+    RTCRay q;
+    q.org_x = r.o.x, q.org_y = r.o.y, q.org_z = r.o.z;
+    q.dir_x = r.d.x, q.dir_y = r.d.y, q.dir_z = r.d.z;
+    q.tnear = r.tmin, q.tfar = r.tmax;
+    q.time = 0.f, q.mask = 0xffffffffu, q.id = 0, q.flags = 0;
+    return q;
+}
+}  // namespace
+
+std::optional<Hit> EmbreeAccel::intersect(const Ray &ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray = to_rtc(ray);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_rtc_scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    Hit h;
+    h.t = rh.ray.tfar;
+    h.mesh = rh.hit.geomID;
+    h.triangle = rh.hit.primID;
+    h.b1 = rh.hit.u, h.b2 = rh.hit.v;
+    h.n = normalize(m_scene.meshes[h.mesh].cross_normal(h.triangle));
+    return h;
+}
+
+bool EmbreeAccel::occluded(const Ray &ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r = to_rtc(ray);
+    rtcOccluded1(m_rtc_scene, &ctx, &r);
+    return r.tfar < 0.f;   // Embree sets tfar = -inf on a hit
+}
+
+}  // namespace ltm

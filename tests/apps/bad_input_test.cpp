@@ -1,0 +1,86 @@
+// bad_input_test.cpp: every bad input gives "ltm <cmd>: error: <file>...: <what>", exit 1, and
+// no output file.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "cli.h"
+#include "ltm/core/file_util.h"
+#include "ltm/scene/builtin_scenes.h"
+#include "ltm/scene/scene_io.h"
+#include "test_util.h"
+
+using namespace ltm;
+
+namespace {
+struct Result {
+    int code;
+    std::string err;
+};
+Result run(const std::vector<std::string> &args) {
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    const int code = cli::run_cli(args);
+    testing::internal::GetCapturedStdout();
+    return {code, testing::internal::GetCapturedStderr()};
+}
+
+// Runs the command and checks exit 1, one error line with the prefix and the expected text,
+// and that `dir` holds exactly `files_before` entries afterwards.
+void expect_error(const test::TempDir &dir, size_t files_before, const std::vector<std::string> &args,
+                  const std::string &cmd, const std::string &expect) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("ltm " + cmd + ": error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+    EXPECT_EQ(dir.count(), files_before) << "no partial output for: " << r.err;
+}
+}  // namespace
+
+TEST(BadInput, SampleRejectsBadScenesAndCounts) {
+    test::TempDir dir;
+    save_scene_json(cornell_box(), dir.path("ok.json"));
+    Scene dark = cornell_box();
+    dark.materials[size_t(dark.find_material("light"))].emission = Texture::constant(Vec3f(0.f));
+    save_scene_json(dark, dir.path("dark.json"));
+    std::string text = read_file(dir.path("ok.json"));
+    write_file_atomic(dir.path("trunc.json"), text.substr(0, text.size() / 3));
+    write_file_atomic(dir.path("nan.json"), std::string(text).replace(text.find("\"positions\": [") + 14, 1, "NaN, 0"));
+    const std::string out = dir.path("out");
+    const size_t n = dir.count();
+    expect_error(dir, n, {"sample", dir.path("trunc.json"), "-o", out}, "sample", "trunc.json:");
+    expect_error(dir, n, {"sample", dir.path("nan.json"), "-o", out}, "sample", "nan.json:");
+    expect_error(dir, n, {"sample", dir.path("dark.json"), "-o", out}, "sample", "no emitter");
+    expect_error(dir, n, {"sample", dir.path("missing.json"), "-o", out}, "sample", "missing.json");
+    expect_error(dir, n, {"sample", dir.path("ok.json"), "-M", "0", "-o", out}, "sample", "--scene-points 0");
+    expect_error(dir, n, {"sample", dir.path("ok.json"), "-N", "-3", "-o", out}, "sample", "--query-points -3");
+    expect_error(dir, n, {"sample", dir.path("ok.json"), "-N", "999999999999", "-o", out}, "sample", "too large");
+}
+
+TEST(BadInput, UnwritableOutputsLeaveNothing) {
+    test::TempDir dir;
+    const size_t n = dir.count();
+    expect_error(dir, n, {"generate", "--seed", "1", "-o", dir.path("no/such/dir/s.json")}, "generate", "does not exist");
+    expect_error(dir, n, {"preview", "builtin:cornell-box", "-o", dir.path("no/p.png")}, "preview", "does not exist");
+}
+
+TEST(BadInput, GeneratorConfigErrorsNameTheKey) {
+    test::TempDir dir;
+    write_file_atomic(dir.path("cfg.json"), "{\"no_such_key\": 1}");
+    const size_t n = dir.count();
+    expect_error(dir, n, {"generate", "--config", dir.path("cfg.json"), "-o", dir.path("s.json")}, "generate",
+                 "no_such_key");
+    expect_error(dir, n, {"generate", "--set", "bogus.key=3", "-o", dir.path("s.json")}, "generate", "bogus");
+}
+
+TEST(BadInput, PreviewCameraErrors) {
+    test::TempDir dir;
+    Scene s = cornell_box();
+    s.cameras[0].target = s.cameras[0].eye - Vec3f(0, 0, 1);   // looks away from the box, at nothing
+    save_scene_json(s, dir.path("away.json"));
+    const size_t n = dir.count();
+    expect_error(dir, n, {"preview", dir.path("away.json"), "-o", dir.path("p.png")}, "preview", "sees no geometry");
+    expect_error(dir, n, {"preview", "builtin:cornell-box", "--camera", "nope", "-o", dir.path("p.png")}, "preview",
+                 "no camera named");
+}

@@ -1,0 +1,77 @@
+// cli_test.cpp: end-to-end runs of the CLI through run_cli(), as a user would type them.
+#include <gtest/gtest.h>
+
+#include "cli.h"
+#include "ltm/core/file_util.h"
+#include "ltm/core/image.h"
+#include "ltm/points/ply_io.h"
+#include "ltm/scene/scene_io.h"
+#include "test_util.h"
+
+using namespace ltm;
+
+namespace {
+struct Result {
+    int code;
+    std::string out, err;
+};
+Result run(const std::vector<std::string> &args) {
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    const int code = cli::run_cli(args);
+    return {code, testing::internal::GetCapturedStdout(), testing::internal::GetCapturedStderr()};
+}
+}  // namespace
+
+TEST(Cli, GenerateSamplePreviewSmoke) {
+    test::TempDir dir;
+    const std::string scene = dir.path("s.json"), pts = dir.path("pts"), png = dir.path("p.png");
+    auto r = run({"generate", "--seed", "7", "-o", scene, "--quiet"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run({"sample", scene, "--scene-points", "2000", "--query-points", "3000", "--seed", "1", "-o", pts,
+             "--exclude-enclosed", "--threads", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(read_ply(pts + "/scene_points.ply").select(scene_point_columns(), "").size(), 2000u);
+    EXPECT_EQ(read_ply(pts + "/query_points.ply").select(query_point_columns(), "").size(), 3000u);
+    EXPECT_NE(read_file(pts + "/sample.json").find("\"exclude_enclosed\": true"), std::string::npos);
+    r = run({"preview", scene, "-o", png, "--width", "64", "--height", "48"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Image img = read_image(png, /*srgb=*/false);
+    EXPECT_EQ(img.width, 64);
+    EXPECT_EQ(img.height, 48);
+    double sum = 0;
+    for (const Vec3f &p : img.pixels) sum += double(p.x + p.y + p.z);
+    EXPECT_GT(sum / double(img.pixels.size()), 0.05) << "the preview of a room should not be black";
+    r = run({"info", scene});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("triangles"), std::string::npos);
+}
+
+TEST(Cli, SampleIsDeterministicAcrossThreadCounts) {
+    test::TempDir dir;
+    for (const char *t : {"1", "2"})
+        ASSERT_EQ(run({"sample", "builtin:cornell-box", "-M", "5000", "-N", "5000", "--seed", "3", "--threads", t,
+                       "-o", dir.path(std::string("t") + t), "-q"}).code, 0);
+    EXPECT_EQ(read_file(dir.path("t1/scene_points.ply")), read_file(dir.path("t2/scene_points.ply")));
+    EXPECT_EQ(read_file(dir.path("t1/query_points.ply")), read_file(dir.path("t2/query_points.ply")));
+}
+
+TEST(Cli, HelpListsEveryCommandAndExitsZero) {
+    auto r = run({"--help"});
+    EXPECT_EQ(r.code, 0);
+    for (const auto &c : cli::commands()) EXPECT_NE(r.out.find(c.name), std::string::npos) << c.name;
+    r = run({"sample", "--help"});
+    EXPECT_EQ(r.code, 0);
+    for (const char *flag : {"--scene-points", "--query-points", "--threads", "--seed", "--quiet", "--verbose"})
+        EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
+    EXPECT_NE(r.out.find("8192"), std::string::npos) << "defaults are shown";
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+    EXPECT_EQ(run({}).code, 2);
+    EXPECT_EQ(run({"frobnicate"}).code, 2);
+    EXPECT_EQ(run({"sample", "builtin:cornell-box"}).code, 2);              // -o missing
+    const auto r = run({"sample", "builtin:cornell-box", "-o", "x", "--bogus"});
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("ltm sample: usage error"), std::string::npos) << r.err;
+}
