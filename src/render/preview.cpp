@@ -5,6 +5,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
+#include "ltm/render/interaction.h"
 
 namespace ltm {
 
@@ -27,24 +28,18 @@ Image render_preview(const EmbreeAccel &accel, const Camera &camera, PreviewMode
                 const auto hit = accel.intersect({camera.eye, d});
                 if (!hit) continue;
                 ++local_hits;
-                const TriangleMesh &mesh = scene.meshes[hit->mesh];
-                const Material &mat = scene.materials[size_t(mesh.material)];
-                const float b0 = 1.f - hit->b1 - hit->b2;
-                const Vec2f t0 = mesh.uv(hit->triangle, 0), t1 = mesh.uv(hit->triangle, 1), t2 = mesh.uv(hit->triangle, 2);
-                const Vec2f uv{t0.x * b0 + t1.x * hit->b1 + t2.x * hit->b2, t0.y * b0 + t1.y * hit->b1 + t2.y * hit->b2};
+                const Ray ray{camera.eye, d};
+                const SurfaceInteraction si = make_interaction(scene, ray, *hit);
                 Vec3f c;
                 if (mode == PreviewMode::normal) {
-                    c = (hit->n + Vec3f(1.f)) * 0.5f;
-                } else if (mat.is_emissive() && dot(hit->n, d) < 0.f) {
-                    const Vec3f e = mat.emission.eval(uv);
-                    c = e / std::max(max_component(e), 1e-6f);
+                    c = (si.n + Vec3f(1.f)) * 0.5f;
+                } else if (max_component(si.emitted()) > 0.f) {
+                    const Vec3f e = si.emitted();
+                    c = e / max_component(e);
                 } else {
-                    c = mat.albedo.eval(uv);
-                    if (mode == PreviewMode::shaded) {
-                        // Head-light; back faces darkened so inside-out geometry is visible.
-                        const float cos_theta = -dot(hit->n, d);
-                        c = c * (cos_theta > 0.f ? 0.2f + 0.8f * cos_theta : 0.05f);
-                    }
+                    c = si.albedo();
+                    if (mode == PreviewMode::shaded)   // head-light; back faces dark so inside-out geometry shows
+                        c = c * (si.front ? 0.2f + 0.8f * -dot(si.n, d) : 0.05f);
                 }
                 img.at(x, int(y)) = c;
             }

@@ -63,9 +63,21 @@ Material material_from_json(const Json &j, const std::string &where, const std::
     Material m;
     m.name = o.require_string("name");
     const std::string type = o.require_string("type");
-    if (type != "diffuse" && type != "emissive")
-        LTM_THROW(o.where("type"), ": unknown material type '", type, "' (diffuse, emissive)");
+    if (type != "diffuse" && type != "emissive" && type != "conductor")
+        LTM_THROW(o.where("type"), ": unknown material type '", type, "' (diffuse, emissive, conductor)");
     const bool emissive = type == "emissive";
+    if (type == "conductor") {
+        m.bsdf = BsdfKind::conductor;
+        m.roughness = o.get_float("roughness", m.roughness);
+        if (!(m.roughness >= 1e-3f && m.roughness <= 1.f))
+            LTM_THROW(o.where("roughness"), ": GGX roughness must be in [0.001, 1], got ", m.roughness);
+        m.specular = o.get_vec3("specular", m.specular);
+        if (min(m.specular, Vec3f(0.f)) != Vec3f(0.f) || max_component(m.specular) > 1.f)
+            LTM_THROW(o.where("specular"), ": must be in [0, 1]");
+        m.albedo = Texture::constant(m.specular);   // what previews and albedo AOVs show
+        o.finish();
+        return m;
+    }
     m.albedo = o.has("albedo") ? texture_from_json(o.require("albedo"), o.where("albedo"), base_dir)
                                : Texture::constant(Vec3f(emissive ? 0.f : 0.8f));
     check_albedo(m.albedo, o.where("albedo"));
@@ -256,6 +268,13 @@ OrderedJson scene_to_json(const Scene &scene, const std::string &base_dir) {
     for (const auto &m : scene.materials) {
         OrderedJson mj;
         mj["name"] = m.name;
+        if (m.bsdf == BsdfKind::conductor) {
+            mj["type"] = "conductor";
+            mj["roughness"] = m.roughness;
+            mj["specular"] = vec3_json(m.specular);
+            j["materials"].push_back(mj);
+            continue;
+        }
         mj["type"] = m.is_emissive() ? "emissive" : "diffuse";
         mj["albedo"] = texture_to_json(m.albedo, base_dir);
         if (m.is_emissive()) mj["radiance"] = texture_to_json(m.emission, base_dir);

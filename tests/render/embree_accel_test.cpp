@@ -70,6 +70,8 @@ TEST(EmbreeAccel, OffsetOriginDoesNotSelfIntersect) {
         const Vec3f n{0, 1, 0};
         const Vec3f d = Frame(n).to_world(sample_cosine_hemisphere({rng.next_float(), rng.next_float()}));
         const auto hit = accel.intersect({offset_ray_origin(p, n, d), d});
-        if (hit) EXPECT_NE(s.meshes[hit->mesh].name, "floor");
+        if (hit) {
+            EXPECT_NE(s.meshes[hit->mesh].name, "floor");
+        }
     }
 }

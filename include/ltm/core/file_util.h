@@ -19,6 +19,7 @@ public:
     AtomicFile(const AtomicFile &) = delete;
     AtomicFile &operator=(const AtomicFile &) = delete;
     std::ostream &stream() { return m_out; }
+    std::ofstream &file() { return m_out; }
     const std::string &tmp_path() const { return m_tmp; }
     /// Flushes, checks for write errors, renames into place.
     void commit();

@@ -29,4 +29,11 @@ inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, Vec3f d) {
     return p + n * (dot(n, d) >= 0.f ? scale : -scale);
 }
 
+/// Shadow ray from surface point (p, n) to `target`: unnormalised direction from the offset
+/// origin straight to the target, so t = 1 is the target and the interval stops just short of it.
+inline Ray shadow_ray(Vec3f p, Vec3f n, Vec3f target) {
+    const Vec3f o = offset_ray_origin(p, n, target - p);
+    return {o, target - o, 0.f, 1.f - 1e-4f};
+}
+
 }  // namespace ltm

@@ -1,0 +1,78 @@
+// path_tracer.h: the ground-truth estimators (ARCHITECTURE.md §5). Everything ltm learns and
+// reports is judged against these, so they are validated against closed forms in tests.
+//
+// Definitions. E(x) = ∫_H L_i(x,ω) cosθ dω. E_direct: radiance emitted by a light arriving at x
+// unscattered. E_indirect (E⁺): everything else (light that scattered at least once).
+// Depth convention: max_depth counts scattering events after x. E⁺ with max_depth D sums paths
+// x ← y1 ← … ← yk ← light with 1 ≤ k ≤ D; the image of a diffuse point uses the same E⁺.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "ltm/render/embree_accel.h"
+#include "ltm/render/interaction.h"
+#include "ltm/render/light_sampler.h"
+
+namespace ltm {
+
+struct PathTracerConfig {
+    uint64_t seed = 0;
+    uint64_t scene_id = 0;   ///< mixes into every random stream (default: hash of the scene name)
+    int max_depth = 5;       ///< scattering events after the query point (paper: 5)
+    int rr_depth = 5;        ///< Russian roulette from this many scattering events on (unbiased)
+};
+
+struct IrradianceEstimate {
+    Vec3f direct, indirect;   ///< E_direct, E⁺ in W/m²
+};
+
+class Pcg32;
+
+class PathTracer {
+public:
+    PathTracer(const EmbreeAccel &accel, const PathTracerConfig &cfg);
+
+    /// E_direct and E⁺ at (p, n) from n_samples strata: for E⁺, stratified cosine-weighted
+    /// directions (each adds π·L_r(y), L_r without emission at y, by path tracing with NEE+MIS);
+    /// for E_direct, one light sample per stratum, MIS-combined (power heuristic) with the
+    /// cosine directions that hit a light. Deterministic in (seed, scene_id, point_index, sample).
+    IrradianceEstimate irradiance(Vec3f p, Vec3f n, uint64_t point_index, int n_samples) const;
+
+    /// Incident radiance L_i (emission + scattered, up to max_depth scattering events) averaged
+    /// over each of the resolution² bins of hemisphere_bins.h, samples_per_bin stratified samples
+    /// each. Returns [resolution², 3] row-major (bin i·R + j).
+    std::vector<Vec3f> incident_radiance_bins(Vec3f p, Vec3f n, uint64_t point_index, int resolution,
+                                              int samples_per_bin) const;
+
+    /// One stratum of irradiance(): sample s of n_samples, random stream `key`.
+    IrradianceEstimate irradiance_sample(Vec3f p, Vec3f n, uint64_t key, int s, int n_samples) const;
+
+    /// Radiance leaving surface point `si` towards -wo_dir... reflected only (no emission at si),
+    /// with at most `max_scatter` scattering events counting si as the first.
+    Vec3f reflected_radiance(const SurfaceInteraction &si, Vec3f wo_world, int max_scatter, Pcg32 &rng) const;
+
+    /// Stream key for (point or pixel index, sample index).
+    uint64_t stream_key(uint64_t index, uint64_t sample) const;
+    const PathTracerConfig &config() const { return m_cfg; }
+    const EmbreeAccel &accel() const { return m_accel; }
+
+private:
+    Vec3f light_sample_contribution(const SurfaceInteraction &si, const Frame &frame, Vec3f wo_local,
+                                    const Bsdf &bsdf, Pcg32 &rng) const;
+    const EmbreeAccel &m_accel;
+    const Scene &m_scene;
+    PathTracerConfig m_cfg;
+    LightSampler m_lights;
+};
+
+/// Power heuristic (β = 2) for combining two strategies with pdfs a (taken) and b (other).
+inline float power_heuristic(float a, float b) {
+    const float a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.f ? a2 / (a2 + b2) : 0.f;
+}
+
+/// FNV-1a of a string: stable scene ids from names.
+uint64_t stable_hash(const std::string &s);
+
+}  // namespace ltm

@@ -1,0 +1,61 @@
+// exr.cpp: OpenEXR through its stream API so the file goes to a temporary and is renamed.
+#include "ltm/core/exr.h"
+
+#include <ImfChannelList.h>
+#include <ImfCompression.h>
+#include <ImfHeader.h>
+#include <ImfFrameBuffer.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStdIO.h>
+
+#include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
+
+namespace ltm {
+
+void write_exr(const std::string &path, int width, int height, const std::vector<ExrChannel> &channels) {
+    AtomicFile f(path);
+    try {
+        Imf::Header header(width, height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const auto &c : channels) header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
+        Imf::StdOFStream os(f.file(), path.c_str());
+        Imf::OutputFile out(os, header);
+        Imf::FrameBuffer fb;
+        for (const auto &c : channels)
+            fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char *)c.data, sizeof(float) * c.stride_floats,
+                                         sizeof(float) * c.stride_floats * size_t(width)));
+        out.setFrameBuffer(fb);
+        out.writePixels(height);
+    } catch (const Error &) {
+        throw;
+    } catch (const std::exception &e) {
+        LTM_THROW(path, ": cannot write EXR: ", e.what());
+    }
+    f.commit();
+}
+
+std::vector<float> read_exr_channel(const std::string &path, const std::string &name, int *width, int *height) {
+    try {
+        Imf::InputFile in(path.c_str());
+        const Imath::Box2i dw = in.header().dataWindow();
+        const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+        if (!in.header().channels().findChannel(name)) LTM_THROW(path, ": no channel '", name, "'");
+        std::vector<float> data(size_t(w) * size_t(h));
+        Imf::FrameBuffer fb;
+        fb.insert(name, Imf::Slice(Imf::FLOAT, (char *)(data.data() - dw.min.x - dw.min.y * w), sizeof(float),
+                                   sizeof(float) * size_t(w)));
+        in.setFrameBuffer(fb);
+        in.readPixels(dw.min.y, dw.max.y);
+        if (width) *width = w;
+        if (height) *height = h;
+        return data;
+    } catch (const Error &) {
+        throw;
+    } catch (const std::exception &e) {
+        LTM_THROW(path, ": cannot read EXR: ", e.what());
+    }
+}
+
+}  // namespace ltm
