@@ -15,10 +15,11 @@
 
 namespace ltm::cli {
 
-const std::vector<Command> &commands() {
-    static const std::vector<Command> table = {make_generate_command(), make_sample_command(),
-                                               make_preview_command(), make_info_command()};
-    return table;
+std::vector<Command> commands() {
+    // Built afresh per call: each Command owns its parsed-argument state.
+    return {make_generate_command(), make_sample_command(),
+                                               make_preview_command(), make_bake_command(),
+            make_render_command(), make_info_command()};
 }
 
 namespace {
@@ -48,10 +49,11 @@ int run_cli(const std::vector<std::string> &args) {
     app.require_subcommand(1);
     app.set_version_flag("--version", version_string());
     app.get_formatter()->column_width(34);
-    std::vector<CommonOptions> common(commands().size());
+    const std::vector<Command> table = commands();
+    std::vector<CommonOptions> common(table.size());
     std::vector<CLI::App *> subs;
-    for (size_t i = 0; i < commands().size(); ++i) {
-        const Command &cmd = commands()[i];
+    for (size_t i = 0; i < table.size(); ++i) {
+        const Command &cmd = table[i];
         CLI::App *sub = app.add_subcommand(cmd.name, cmd.help);
         add_common_options(*sub, common[i]);
         cmd.setup(*sub, common[i]);
@@ -81,7 +83,7 @@ int run_cli(const std::vector<std::string> &args) {
 #ifdef LTM_WITH_TORCH
             configure_torch_threads(num_threads());
 #endif
-            commands()[i].run(c);
+            table[i].run(c);
             return 0;
         } catch (const std::exception &e) {
             // ltm::Error is bad input; anything else (std::bad_alloc, logic_error) is reported the

@@ -8,6 +8,10 @@
 namespace CLI {
 class App;
 }
+namespace ltm {
+struct Camera;
+struct Scene;
+}  // namespace ltm
 
 namespace ltm::cli {
 
@@ -25,13 +29,18 @@ struct Command {
     std::function<void(const CommonOptions &common)> run;
 };
 
-/// The command table (one file per command: cmd_<name>.cpp).
-const std::vector<Command> &commands();
+/// The command table (one file per command: cmd_<name>.cpp), with fresh argument state.
+std::vector<Command> commands();
 
 Command make_generate_command();
 Command make_sample_command();
 Command make_preview_command();
 Command make_info_command();
+Command make_render_command();
+Command make_bake_command();
+
+/// The scene's camera by name, else its first, else an automatic one; resized if width/height > 0.
+Camera choose_camera(const Scene &scene, const std::string &name, int width, int height, const std::string &where);
 
 /// Parses and runs `args` (without the program name). Exit codes: 0 ok, 1 error (message
 /// "ltm <cmd>: error: <what>" on stderr), 2 usage error.

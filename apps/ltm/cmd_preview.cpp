@@ -10,6 +10,24 @@
 
 namespace ltm::cli {
 
+Camera choose_camera(const Scene &scene, const std::string &name, int width, int height, const std::string &where) {
+    Camera cam;
+    if (!name.empty()) {
+        bool found = false;
+        for (const auto &k : scene.cameras)
+            if (k.name == name) cam = k, found = true;
+        if (!found) LTM_THROW(where, ": no camera named '", name, "'");
+    } else if (!scene.cameras.empty()) {
+        cam = scene.cameras.front();
+    } else {
+        cam = automatic_camera(scene, 512, 512);
+        log_info("scene has no camera; using an automatic one at ", cam.eye);
+    }
+    if (width > 0) cam.width = width;
+    if (height > 0) cam.height = height;
+    return cam;
+}
+
 namespace {
 struct PreviewArgs {
     std::string scene, output, camera, mode = "shaded";
@@ -35,20 +53,7 @@ Command make_preview_command() {
         ValidateOptions vopt;
         vopt.require_emitter = false;   // looking at an unlit scene is allowed
         const Scene scene = load_scene(a->scene, vopt);
-        Camera cam;
-        if (!a->camera.empty()) {
-            bool found = false;
-            for (const auto &k : scene.cameras)
-                if (k.name == a->camera) cam = k, found = true;
-            if (!found) LTM_THROW(a->scene, ": no camera named '", a->camera, "'");
-        } else if (!scene.cameras.empty()) {
-            cam = scene.cameras.front();
-        } else {
-            cam = automatic_camera(scene, 512, 512);
-            log_info("scene has no camera; using an automatic one at ", cam.eye);
-        }
-        if (a->width > 0) cam.width = a->width;
-        if (a->height > 0) cam.height = a->height;
+        const Camera cam = choose_camera(scene, a->camera, a->width, a->height, a->scene);
         const EmbreeAccel accel(scene);
         float hit_fraction = 0.f;
         const Image img = render_preview(accel, cam, mode, &hit_fraction);

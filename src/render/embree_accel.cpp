@@ -3,6 +3,8 @@
 
 #include <cstring>
 
+#include <unistd.h>
+
 #include <embree3/rtcore.h>
 
 #include "ltm/core/error.h"
@@ -16,7 +18,20 @@ void on_embree_error(void *user, RTCError code, const char *str) {
 }
 }  // namespace
 
+namespace {
+// Refuse scenes whose BVH cannot fit: Embree's high-quality triangle BVH plus our copies of the
+// buffers take roughly 200 bytes per triangle (measured order of magnitude, kept conservative).
+void check_memory(const Scene &scene) {
+    const double need = 200.0 * double(scene.n_triangles());
+    const double avail = double(sysconf(_SC_AVPHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+    if (avail > 0 && need > 0.9 * avail)
+        LTM_THROW("scene '", scene.name, "' has ", scene.n_triangles(), " triangles: the ray-tracing BVH needs about ",
+                  need / double(1 << 30), " GiB but only ", avail / double(1 << 30), " GiB of memory are available");
+}
+}  // namespace
+
 EmbreeAccel::EmbreeAccel(const Scene &scene) : m_scene(scene) {
+    check_memory(scene);
     m_device = rtcNewDevice(nullptr);
     if (!m_device) LTM_THROW("EmbreeAccel: cannot create Embree device (error ", int(rtcGetDeviceError(nullptr)), ")");
     rtcSetDeviceErrorFunction(m_device, on_embree_error, &m_error);
@@ -72,6 +87,7 @@ RTCRay to_rtc(const Ray &r) {
 }  // namespace
 
 std::optional<Hit> EmbreeAccel::intersect(const Ray &ray) const {
+    m_rays.fetch_add(1, std::memory_order_relaxed);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -90,6 +106,7 @@ std::optional<Hit> EmbreeAccel::intersect(const Ray &ray) const {
 }
 
 bool EmbreeAccel::occluded(const Ray &ray) const {
+    m_rays.fetch_add(1, std::memory_order_relaxed);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r = to_rtc(ray);

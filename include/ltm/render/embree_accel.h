@@ -2,6 +2,7 @@
 // recorded by the device callback and rethrown as ltm::Error after each call that can fail.
 #pragma once
 
+#include <atomic>
 #include <optional>
 #include <string>
 
@@ -27,6 +28,8 @@ public:
     /// True if anything is hit in (tmin, tmax). Thread-safe.
     bool occluded(const Ray &ray) const;
     const Scene &scene() const { return m_scene; }
+    /// Rays traced so far by this accelerator (closest-hit + occlusion), for rays/s reports.
+    uint64_t rays_traced() const { return m_rays.load(std::memory_order_relaxed); }
 
 private:
     void throw_if_error(const char *during) const;
@@ -34,6 +37,7 @@ private:
     RTCDevice m_device = nullptr;
     RTCScene m_rtc_scene = nullptr;
     mutable std::string m_error;   // set by the device error callback
+    mutable std::atomic<uint64_t> m_rays{0};
 };
 
 }  // namespace ltm

@@ -1,0 +1,129 @@
+// gen_config.h: every range and probability of the procedural indoor generator, with its
+// documented default. configs/gen/indoor.json is the default config written out in full.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "ltm/core/json_util.h"
+#include "ltm/core/math.h"
+
+namespace ltm {
+
+/// Inclusive integer range [lo, hi].
+struct IntRange {
+    int lo = 0, hi = 0;
+};
+
+/// Size ranges of one furniture archetype, in its local frame: width along the wall it backs
+/// onto (x), depth away from the wall (z), height (y). Metres.
+struct ArchetypeRanges {
+    float weight = 1.f;   ///< relative frequency among the archetypes a room role allows
+    Vec2f width{1.f, 1.f};
+    Vec2f depth{1.f, 1.f};
+    Vec2f height{1.f, 1.f};
+};
+
+/// The archetypes the generator knows, with realistic default sizes (keys: furniture.h).
+std::map<std::string, ArchetypeRanges> default_archetypes();
+
+struct GenConfig {
+    struct Plan {
+        float weight_single = 0.25f;    ///< relative frequency: one rectangular room
+        float weight_l_room = 0.15f;    ///< one L-shaped room
+        float weight_bsp = 0.3f;        ///< rectangle split into rooms by binary space partition
+        float weight_hallway = 0.15f;   ///< hallway strip with rooms along one or both sides
+        float weight_l_split = 0.15f;   ///< L-shaped footprint split into rooms
+        Vec2f footprint_size{6.f, 11.f};     ///< sides of a multi-room footprint (m)
+        IntRange n_rooms{2, 5};              ///< target room count of BSP plans
+        Vec2f split_fraction{0.35f, 0.65f};  ///< BSP cut position as a fraction of the side
+        Vec2f l_cut_fraction{0.35f, 0.6f};   ///< fraction of each side the L's notch removes
+        Vec2f hallway_width{1.1f, 1.6f};     ///< m
+        IntRange hallway_rooms_per_side{1, 3};
+        float p_hallway_two_sided = 0.5f;    ///< rooms on both sides of the hallway
+        float snap = 0.05f;                  ///< every plan coordinate is a multiple of this (m)
+        int max_attempts = 20;               ///< plan retries before falling back to one room
+    } plan;
+
+    struct Rooms {
+        Vec2f size{2.5f, 7.f};            ///< sides of single rooms and of hallway rooms (m)
+        Vec2f l_room_size{4.f, 8.f};      ///< bounding sides of an L-shaped single room (m)
+        float min_side = 2.2f;            ///< no partition cell gets a side shorter than this (m)
+        Vec2f ceiling_height{2.5f, 3.2f}; ///< m, one height per plan
+    } rooms;
+
+    struct Walls {
+        float thickness = 0.1f;   ///< interior wall thickness (m); door openings go through it
+    } walls;
+
+    struct Doors {
+        Vec2f width{0.8f, 1.0f};    ///< m
+        Vec2f height{2.0f, 2.2f};   ///< m, clamped below the ceiling
+        float corner_margin = 0.15f;  ///< min distance from a door to a wall corner (m)
+        float p_extra = 0.25f;        ///< chance of a door on each adjacency beyond the tree
+        float clear_depth = 0.9f;     ///< furniture-free depth in front of a door, each side (m)
+        float clear_side = 0.1f;      ///< furniture-free margin beside the door's width (m)
+    } doors;
+
+    struct Furniture {
+        Vec2f density{0.12f, 0.3f};       ///< items per m² of room floor
+        IntRange items_per_room{1, 10};   ///< clamp of the density-derived count
+        float hallway_density_scale = 0.3f;  ///< hallways hold fewer items
+        float clearance = 0.08f;          ///< min gap between two pieces of furniture (m)
+        float wall_gap = 0.01f;           ///< gap between a wall-placed piece and its wall (m)
+        float p_carpet = 0.5f;            ///< chance of a carpet per room
+        int max_attempts = 60;            ///< placement tries per item
+        int ajar_light_room_max_items = 1;  ///< furniture allowed in the lit room of ajar scenes
+        std::map<std::string, ArchetypeRanges> archetypes = default_archetypes();
+    } furniture;
+
+    struct Textures {
+        float p_floor_wood = 0.45f;        ///< floor gets a wood texture
+        float p_floor_tiles = 0.2f;        ///< floor gets checker tiles (else plain)
+        float p_wall_pattern = 0.1f;       ///< striped wallpaper
+        float p_accent_wall = 0.15f;       ///< saturated wall colour instead of a white/pastel
+        float p_carpet_pattern = 0.7f;     ///< carpet stripes or noise (else plain)
+        float p_furniture_wood = 0.6f;     ///< wooden parts get a wood texture (else plain)
+        float p_fabric_pattern = 0.2f;     ///< fabric stripes or checker (else plain)
+        float p_saturated_fabric = 0.4f;   ///< fabric from the saturated palette
+        Vec2f wood_scale{0.08f, 0.25f};    ///< wood ring period (m)
+        Vec2f tile_scale{0.2f, 0.6f};      ///< checker cell (m)
+        Vec2f stripe_scale{0.05f, 0.4f};   ///< stripe pair period (m)
+        Vec2f noise_scale{0.1f, 0.5f};     ///< noise feature size (m)
+        float color_jitter = 0.08f;        ///< relative per-object jitter of palette colours
+    } textures;
+
+    struct Lights {
+        IntRange per_room{1, 3};             ///< ceiling lights in each lit room
+        Vec2f size{0.3f, 1.2f};              ///< side of a rectangular light (m)
+        Vec2f temperature{2700.f, 6500.f};   ///< colour temperature (K)
+        /// Emitted power per m² of lit floor (luminance-weighted W/m²): Φ = π·L·A_light, so a
+        /// 20 m² room gets 100–400 W.
+        Vec2f power_density{5.f, 20.f};
+        float wall_margin = 0.4f;      ///< min distance from a light to a wall (m)
+        float light_gap = 0.3f;        ///< min distance between two lights (m)
+        float tall_height = 1.4f;      ///< furniture taller than this keeps off the lights (m)
+        float tall_clearance = 0.3f;   ///< plan gap between a light and tall furniture (m)
+        float ceiling_gap = 0.001f;    ///< lights hang this far below the ceiling (m)
+        float p_ajar = 0.15f;          ///< all lights in one sparsely furnished room (>= 2 rooms)
+        int max_attempts = 50;         ///< placement tries per light
+    } lights;
+
+    struct CameraCfg {
+        int width = 512, height = 512;    ///< pixels
+        Vec2f fov_y{55.f, 70.f};          ///< vertical field of view (degrees)
+        Vec2f eye_height{1.4f, 1.7f};     ///< m
+        Vec2f target_height{0.8f, 1.3f};  ///< m
+        float wall_margin = 0.5f;         ///< min distance from the eye to a wall (m)
+        float furniture_clearance = 0.35f;  ///< preferred plan distance to furniture (m)
+        int n_candidates = 24;            ///< eye positions tried; the best one is kept
+    } camera;
+
+    /// Strict parse: unknown keys and invalid ranges throw "where: /json/pointer: problem".
+    /// Missing keys keep their defaults.
+    static GenConfig from_json(const Json &j, const std::string &where);
+    /// Every key, in a stable order.
+    OrderedJson to_json() const;
+};
+
+}  // namespace ltm
