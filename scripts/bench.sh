@@ -5,6 +5,7 @@ set -euo pipefail
 BUILD=${BUILD:-build}
 LTM="$BUILD/apps/ltm/ltm"
 "$BUILD/bench/foundation_bench" --benchmark_min_time=0.5
+"$BUILD/bench/render_bench"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 start=$(date +%s%N)

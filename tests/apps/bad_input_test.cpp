@@ -1,5 +1,6 @@
 // bad_input_test.cpp: every bad input gives "ltm <cmd>: error: <file>...: <what>", exit 1, and
 // no output file.
+#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -83,4 +84,41 @@ TEST(BadInput, PreviewCameraErrors) {
     expect_error(dir, n, {"preview", dir.path("away.json"), "-o", dir.path("p.png")}, "preview", "sees no geometry");
     expect_error(dir, n, {"preview", "builtin:cornell-box", "--camera", "nope", "-o", dir.path("p.png")}, "preview",
                  "no camera named");
+}
+
+TEST(BadInput, BakeRejectsForeignPointsAndBadSettings) {
+    test::TempDir dir;
+    ASSERT_EQ(run({"sample", "builtin:quad-light-room", "-M", "100", "-N", "100", "-o", dir.path("room"), "-q"}).code, 0);
+    ASSERT_EQ(run({"sample", "builtin:cornell-box", "-M", "100", "-N", "100", "-o", dir.path("cb"), "-q"}).code, 0);
+    // Points of another scene, with and without the sample.json that names it.
+    std::filesystem::remove(dir.path("room/sample.json"));
+    const size_t n = dir.count();
+    expect_error(dir, n, {"bake", "builtin:cornell-box", "--points", dir.path("room"), "-o", dir.path("out")}, "bake",
+                 "another scene");
+    expect_error(dir, n, {"bake", "builtin:quad-light-room", "--points", dir.path("cb"), "-o", dir.path("out")}, "bake",
+                 "points were sampled on scene 'cornell-box'");
+    expect_error(dir, n, {"bake", "builtin:cornell-box", "--points", dir.path("cb"), "--spp", "0", "-o", dir.path("out")},
+                 "bake", "--spp 0");
+    expect_error(dir, n, {"bake", "builtin:cornell-box", "--points", dir.path("cb"), "--max-depth", "0", "-o", dir.path("out")},
+                 "bake", "--max-depth 0");
+    expect_error(dir, n, {"bake", "builtin:cornell-box", "--points", dir.path("cb"), "--shard", "3/3", "-o", dir.path("out")},
+                 "bake", "need 0 <= i < N");
+    expect_error(dir, n, {"bake", "builtin:cornell-box", "--points", dir.path("nope"), "-o", dir.path("out")}, "bake",
+                 "query_points.ply");
+}
+
+TEST(BadInput, RenderRejectsBadCamerasAndSettings) {
+    test::TempDir dir;
+    Scene inside = quad_light_room();
+    inside.cameras[0].eye = {3.6f, 0.45f, 1.2f};   // inside the closed box
+    inside.cameras[0].target = {3.6f, 0.45f, 3.f};
+    save_scene_json(inside, dir.path("inside.json"));
+    Scene away = cornell_box();
+    away.cameras[0].target = away.cameras[0].eye - Vec3f(0, 0, 1);
+    save_scene_json(away, dir.path("away.json"));
+    const size_t n = dir.count();
+    expect_error(dir, n, {"render", dir.path("inside.json"), "-o", dir.path("r")}, "render", "inside geometry");
+    expect_error(dir, n, {"render", dir.path("away.json"), "-o", dir.path("r")}, "render", "looks at nothing");
+    expect_error(dir, n, {"render", "builtin:cornell-box", "--spp", "0", "-o", dir.path("r")}, "render", "--spp 0");
+    expect_error(dir, n, {"render", "builtin:cornell-box", "--method", "neural", "-o", dir.path("r")}, "render", "neural");
 }

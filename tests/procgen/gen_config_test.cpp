@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
 
 namespace ltm {
 namespace {
@@ -105,3 +106,16 @@ TEST(GenConfig, TopLevelMustBeAnObject) {
 
 }  // namespace
 }  // namespace ltm
+
+// docs/config.md documents every key of the shipped config (docs drift otherwise).
+TEST(GenConfig, EveryKeyIsDocumented) {
+    const std::string doc = ltm::read_file(LTM_SOURCE_DIR "/docs/config.md");
+    const ltm::Json cfg = ltm::parse_json_file(LTM_SOURCE_DIR "/configs/gen/indoor.json");
+    for (auto it = cfg.begin(); it != cfg.end(); ++it) {
+        EXPECT_NE(doc.find("`" + it.key() + "`"), std::string::npos) << it.key();
+        for (auto kt = it->begin(); it->is_object() && kt != it->end(); ++kt)
+            EXPECT_NE(doc.find("`" + kt.key() + "`"), std::string::npos) << it.key() << "." << kt.key();
+    }
+    for (const auto &[name, ranges] : ltm::default_archetypes())
+        EXPECT_NE(doc.find("`" + name + "`"), std::string::npos) << name;
+}
