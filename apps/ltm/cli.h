@@ -38,6 +38,9 @@ Command make_preview_command();
 Command make_info_command();
 Command make_render_command();
 Command make_bake_command();
+Command make_dataset_command();   // the three below need libtorch (LTM_WITH_TORCH)
+Command make_train_command();
+Command make_export_command();
 
 /// The scene's camera by name, else its first, else an automatic one; resized if width/height > 0.
 Camera choose_camera(const Scene &scene, const std::string &name, int width, int height, const std::string &where);

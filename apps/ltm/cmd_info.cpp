@@ -4,19 +4,60 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "ltm/core/file_util.h"
+#include "ltm/points/safetensors.h"
 #include "ltm/scene/scene_io.h"
+#ifdef LTM_WITH_TORCH
+#include "ltm/nn/checkpoint.h"
+#endif
 
 namespace ltm::cli {
+
+namespace {
+// Weights, dataset records, bake outputs: list tensors and the ltm metadata.
+void describe_safetensors(const std::string &path) {
+    const SafetensorsFile f = read_safetensors(path);
+    int64_t n_values = 0;
+    for (const auto &[name, t] : f.tensors) n_values += int64_t(t.numel());
+    const auto fmt = f.metadata.count("format") ? f.metadata.at("format") : (f.metadata.count("ltm") ? "ltm-record" : "?");
+    std::cout << "file       " << path << " (safetensors, " << fmt << ")\n"
+              << "tensors    " << f.tensors.size() << " with " << n_values << " values\n";
+    if (fmt == "ltm-weights") {
+        std::cout << "config     " << f.metadata.at("config") << "\n";
+        for (const char *k : {"format_version", "arch_version", "step", "best_val_loss"})
+            if (f.metadata.count(k)) std::cout << k << "  " << f.metadata.at(k) << "\n";
+        return;
+    }
+    for (const auto &[name, t] : f.tensors) {
+        std::cout << "  " << name << " " << t.dtype << " [";
+        for (size_t i = 0; i < t.shape.size(); ++i) std::cout << (i ? ", " : "") << t.shape[i];
+        std::cout << "]\n";
+    }
+    for (const auto &[k, v] : f.metadata) std::cout << "meta " << k << "  " << v.substr(0, 400) << "\n";
+}
+}  // namespace
 
 Command make_info_command() {
     auto path = std::make_shared<std::string>();
     Command c;
     c.name = "info";
-    c.help = "Describe a scene (json, obj or builtin:<name>)";
+    c.help = "Describe a scene (json, obj, builtin:<name>), weights/records (.safetensors) or a checkpoint (.ltmckpt)";
     c.setup = [path](CLI::App &sub, CommonOptions &) {
         sub.add_option("input", *path, "Scene file")->required();
     };
     c.run = [path](const CommonOptions &) {
+        const std::string ext = file_extension(*path);
+        if (ext == "safetensors") return describe_safetensors(*path);
+        if (ext == "ltmckpt") {
+#ifdef LTM_WITH_TORCH
+            const TrainState st = read_checkpoint_state(*path);
+            std::cout << "checkpoint " << *path << "\nstep       " << st.step << "\nbest val   " << st.best_val
+                      << "\nmodel      " << st.model_config << "\ntraining   " << st.train_config << "\n";
+            return;
+#else
+            LTM_THROW(*path, ": checkpoints need a build with libtorch (LTM_WITH_TORCH=ON)");
+#endif
+        }
         ValidateOptions opt;
         opt.require_emitter = false;
         const Scene s = load_scene(*path, opt);

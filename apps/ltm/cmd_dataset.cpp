@@ -1,0 +1,67 @@
+// cmd_dataset.cpp: `ltm dataset build --config configs/data/cpu.json --seed-range A:B [--scenes N]
+// [--shard i/N] [--test] -o DIR`: generate → sample → bake, one safetensors record per scene.
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "cli.h"
+#include "ltm/core/error.h"
+#include "ltm/render/bake.h"
+#include "ltm/train/dataset.h"
+
+namespace ltm::cli {
+
+namespace {
+struct DatasetArgs {
+    std::string action, config, seed_range, output, shard;
+    int scenes = -1;
+    bool test = false;
+};
+
+std::pair<uint64_t, uint64_t> parse_seed_range(const std::string &s) {
+    const size_t colon = s.find(':');
+    try {
+        if (colon == std::string::npos) throw std::invalid_argument("");
+        const long long a = std::stoll(s.substr(0, colon)), b = std::stoll(s.substr(colon + 1));
+        if (a < 0 || b <= a) throw std::invalid_argument("");
+        return {uint64_t(a), uint64_t(b)};
+    } catch (const std::exception &) {
+        LTM_THROW("--seed-range ", s, ": expected A:B with 0 <= A < B (seeds A .. B-1)");
+    }
+}
+}  // namespace
+
+Command make_dataset_command() {
+    auto a = std::make_shared<DatasetArgs>();
+    Command c;
+    c.name = "dataset";
+    c.help = "Build a training dataset: generate, sample and bake one record per scene (resumable, shardable)";
+    c.setup = [a](CLI::App &sub, CommonOptions &) {
+        sub.add_option("action", a->action, "build")->required()->check(CLI::IsMember({"build"}));
+        sub.add_option("--config", a->config, "Data preset (configs/data/{ci,cpu,paper}.json)")->required();
+        sub.add_option("--seed-range", a->seed_range, "Generator seeds A:B (A .. B-1); keep test seeds disjoint")->required();
+        sub.add_option("--scenes", a->scenes, "Build only the first N seeds of the range");
+        sub.add_option("--shard", a->shard, "i/N: build every N-th scene starting at i (default: SLURM array, else 0/1)");
+        sub.add_flag("--test", a->test, "Held-out references: bake with the preset's test_spp");
+        sub.add_option("-o,--output", a->output, "Dataset directory")->required();
+    };
+    c.run = [a](const CommonOptions &) {
+        BuildOptions opt;
+        opt.preset = DataPreset::from_file(a->config);
+        const auto [lo, hi] = parse_seed_range(a->seed_range);
+        uint64_t end = hi;
+        if (a->scenes >= 0) {
+            if (a->scenes == 0) LTM_THROW("--scenes 0: must be > 0");
+            end = std::min<uint64_t>(hi, lo + uint64_t(a->scenes));
+        }
+        const Shard shard = a->shard.empty() ? Shard::from_environment() : Shard::parse(a->shard);
+        for (uint64_t s = lo; s < end; ++s)
+            if (int((s - lo) % uint64_t(shard.count)) == shard.index) opt.seeds.push_back(s);
+        opt.test = a->test;
+        opt.out_dir = a->output;
+        build_dataset(opt);
+    };
+    return c;
+}
+
+}  // namespace ltm::cli

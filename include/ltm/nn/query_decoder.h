@@ -1,0 +1,40 @@
+// query_decoder.h: the local query decoder (paper eqs. 9–14): each query attends to its κ
+// nearest latent anchors with grouped vector cross-attention (PTv2), and predicts
+// z = log1p(E⁺) ≥ 0. Also the knn-mean ablation (mean of the κ latents + MLP, Fig. 14).
+#pragma once
+
+#include <torch/torch.h>
+
+#include "ltm/nn/model_config.h"
+
+namespace ltm {
+
+/// One cross-attention block. G^q = W_q h, relation A = G^q − G^k + γ(Δp) (eq. 12),
+/// weights = softmax_κ(MLP_w(A)) per group, out = Σ_κ w ⊙ (G^v + γ(Δp)) (eq. 13).
+struct VectorCrossAttentionImpl : torch::nn::Module {
+    VectorCrossAttentionImpl(int64_t dim, int64_t latent_dim, int64_t groups);
+    /// W_k, W_v applied to all m latents once (linear maps commute with the gather).
+    ///   latents [m, C] -> (keys [m, D], values [m, D])
+    std::pair<torch::Tensor, torch::Tensor> project_latents(const torch::Tensor &latents);
+    //   h [N, D], keys/values [m, D], idx [N, κ], rel_pos [N, κ, 3]  ->  [N, D]
+    torch::Tensor forward(const torch::Tensor &h, const torch::Tensor &keys, const torch::Tensor &values,
+                          const torch::Tensor &idx, const torch::Tensor &rel_pos);
+    int64_t groups;
+    torch::nn::Linear to_q{nullptr}, to_k{nullptr}, to_v{nullptr};
+    torch::nn::Sequential pos_mlp{nullptr}, weight_mlp{nullptr};   // γ(Δp) and the A → weights MLP
+};
+TORCH_MODULE(VectorCrossAttention);
+
+struct QueryDecoderImpl : torch::nn::Module {
+    QueryDecoderImpl(const DecoderConfig &cfg, int64_t latent_dim);
+    //   query [N, 9] (normalised p, n, albedo), latents [m, C], anchors [m, 3], idx [N, κ]  ->  z [N, 3]
+    torch::Tensor forward(const torch::Tensor &query, const torch::Tensor &latents, const torch::Tensor &anchors,
+                          const torch::Tensor &idx);
+    DecoderConfig cfg;
+    torch::nn::Sequential embed{nullptr}, out{nullptr};            // 𝓗 (eq. 9) and 𝓦_out (eq. 14)
+    torch::nn::ModuleList attention{nullptr}, norms{nullptr}, ffn{nullptr}, ffn_norms{nullptr};
+    torch::nn::Linear latent_proj{nullptr};                       // knn-mean ablation only
+};
+TORCH_MODULE(QueryDecoder);
+
+}  // namespace ltm

@@ -1,0 +1,144 @@
+// checkpoint.cpp: safetensors weights and torch-archive training checkpoints.
+#include "ltm/nn/checkpoint.h"
+
+#include <cstring>
+#include <filesystem>
+
+#include "ltm/core/error.h"
+#include "ltm/points/safetensors.h"
+
+namespace ltm {
+
+namespace {
+std::map<std::string, torch::Tensor> state_dict(LtmModel &model) {
+    std::map<std::string, torch::Tensor> out;
+    for (const auto &p : model->named_parameters()) out[p.key()] = p.value();
+    for (const auto &b : model->named_buffers()) out[b.key()] = b.value();
+    return out;
+}
+
+void atomic_rename(const std::string &tmp, const std::string &path) {
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) LTM_THROW(path, ": cannot rename into place: ", ec.message());
+}
+}  // namespace
+
+void save_weights(const std::string &path, LtmModel &model, const std::map<std::string, std::string> &extra) {
+    SafetensorsFile f;
+    for (const auto &[name, t] : state_dict(model)) {
+        const auto c = t.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+        std::vector<int64_t> shape(c.sizes().begin(), c.sizes().end());
+        f.tensors[name] = make_f32_tensor(shape, c.data_ptr<float>());
+    }
+    f.metadata = extra;
+    f.metadata["format"] = "ltm-weights";
+    f.metadata["format_version"] = std::to_string(k_weights_format_version);
+    f.metadata["arch_version"] = std::to_string(k_arch_version);
+    f.metadata["config"] = model->cfg.to_json().dump();
+    write_safetensors(path, f);
+}
+
+void load_state(LtmModel &model, const std::map<std::string, torch::Tensor> &tensors, const std::string &where) {
+    torch::NoGradGuard no_grad;
+    auto own = state_dict(model);
+    for (const auto &[name, t] : tensors)
+        if (!own.count(name)) LTM_THROW(where, ": unexpected tensor '", name, "': weights of another architecture");
+    for (auto &[name, dst] : own) {
+        const auto it = tensors.find(name);
+        if (it == tensors.end()) LTM_THROW(where, ": missing tensor '", name, "': weights of another architecture");
+        if (it->second.sizes() != dst.sizes())
+            LTM_THROW(where, ": tensor '", name, "' has shape ", it->second.sizes(), ", the model expects ", dst.sizes());
+        dst.copy_(it->second);
+    }
+}
+
+LtmModel load_weights(const std::string &path, std::map<std::string, std::string> *metadata) {
+    const SafetensorsFile f = read_safetensors(path);
+    auto meta = [&](const std::string &k) {
+        const auto it = f.metadata.find(k);
+        if (it == f.metadata.end()) LTM_THROW(path, ": not ltm weights (metadata '", k, "' missing)");
+        return it->second;
+    };
+    if (meta("format") != "ltm-weights") LTM_THROW(path, ": not ltm weights (format '", meta("format"), "')");
+    if (meta("format_version") != std::to_string(k_weights_format_version))
+        LTM_THROW(path, ": weights format version ", meta("format_version"), ", this build reads ", k_weights_format_version);
+    if (meta("arch_version") != std::to_string(k_arch_version))
+        LTM_THROW(path, ": architecture version ", meta("arch_version"), ", this build has ", k_arch_version);
+    const ModelConfig cfg = ModelConfig::from_json(parse_json(meta("config"), path + " (config)"), path + " (config)");
+    LtmModel model(cfg);
+    std::map<std::string, torch::Tensor> tensors;
+    for (const auto &[name, t] : f.tensors) {
+        std::vector<float> v = t.as_f32(path);
+        tensors[name] = torch::from_blob(v.data(), t.shape, torch::kFloat32).clone();
+    }
+    load_state(model, tensors, path);
+    if (metadata) *metadata = f.metadata;
+    return model;
+}
+
+void save_checkpoint(const std::string &path, LtmModel &model, torch::optim::Optimizer &opt, const TrainState &s) {
+    torch::serialize::OutputArchive archive, model_archive, opt_archive;
+    model->save(model_archive);
+    opt.save(opt_archive);
+    archive.write("model", model_archive);
+    archive.write("optimizer", opt_archive);
+    archive.write("format", c10::IValue(std::string("ltm-checkpoint")));
+    archive.write("format_version", c10::IValue(int64_t(k_weights_format_version)));
+    archive.write("arch_version", c10::IValue(int64_t(k_arch_version)));
+    archive.write("step", c10::IValue(s.step));
+    archive.write("best_val", c10::IValue(s.best_val));
+    archive.write("model_config", c10::IValue(s.model_config));
+    archive.write("train_config", c10::IValue(s.train_config));
+    const std::string tmp = path + ".tmp";
+    archive.save_to(tmp);
+    atomic_rename(tmp, path);
+}
+
+namespace {
+torch::serialize::InputArchive open_checkpoint(const std::string &path) {
+    if (!std::filesystem::is_regular_file(path)) LTM_THROW(path, ": checkpoint not found");
+    torch::serialize::InputArchive archive;
+    try {
+        archive.load_from(path);
+    } catch (const std::exception &e) {
+        LTM_THROW(path, ": not a readable checkpoint (", std::string(e.what()).substr(0, 120), ")");
+    }
+    c10::IValue v;
+    if (!archive.try_read("format", v) || !v.isString() || v.toStringRef() != "ltm-checkpoint")
+        LTM_THROW(path, ": not an ltm checkpoint");
+    if (!archive.try_read("arch_version", v) || v.toInt() != k_arch_version)
+        LTM_THROW(path, ": checkpoint of another architecture version");
+    return archive;
+}
+}  // namespace
+
+TrainState read_checkpoint_state(const std::string &path) {
+    auto archive = open_checkpoint(path);
+    TrainState s;
+    c10::IValue v;
+    archive.read("step", v);
+    s.step = v.toInt();
+    archive.read("best_val", v);
+    s.best_val = v.toDouble();
+    archive.read("model_config", v);
+    s.model_config = v.toStringRef();
+    archive.read("train_config", v);
+    s.train_config = v.toStringRef();
+    return s;
+}
+
+void load_checkpoint(const std::string &path, LtmModel &model, torch::optim::Optimizer &opt) {
+    auto archive = open_checkpoint(path);
+    torch::serialize::InputArchive model_archive, opt_archive;
+    archive.read("model", model_archive);
+    archive.read("optimizer", opt_archive);
+    try {
+        model->load(model_archive);
+    } catch (const std::exception &e) {
+        LTM_THROW(path, ": checkpoint does not fit this model (", std::string(e.what()).substr(0, 160), ")");
+    }
+    opt.load(opt_archive);
+}
+
+}  // namespace ltm

@@ -1,0 +1,88 @@
+// ltm_model.cpp: wiring of embedding, encoder and decoder, and the loss.
+#include "ltm/nn/ltm_model.h"
+
+#include "ltm/nn/knn.h"
+
+namespace ltm {
+
+torch::Tensor bounding_box_center(const torch::Tensor &positions) {
+    TORCH_CHECK(positions.dim() == 2 && positions.size(1) == 3 && positions.size(0) > 0,
+                "bounding_box_center: positions must be [n, 3], got ", positions.sizes());
+    return 0.5f * (std::get<0>(positions.min(0)) + std::get<0>(positions.max(0)));
+}
+
+torch::Tensor normalize_scene_points(const torch::Tensor &sp, const torch::Tensor &center) {
+    TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
+    TORCH_CHECK(torch::isfinite(sp).all().item<bool>(), "scene points contain NaN or Inf");
+    TORCH_CHECK((sp.slice(1, 9, 12) >= 0).all().item<bool>(), "scene point emission must be >= 0");
+    return torch::cat({sp.slice(1, 0, 3) - center, sp.slice(1, 3, 9), torch::log1p(sp.slice(1, 9, 12))}, 1);
+}
+
+torch::Tensor normalize_query_points(const torch::Tensor &qp, const torch::Tensor &center) {
+    TORCH_CHECK(qp.dim() == 2 && qp.size(1) == 9, "query points must be [N, 9], got ", qp.sizes());
+    TORCH_CHECK(torch::isfinite(qp).all().item<bool>(), "query points contain NaN or Inf");
+    return torch::cat({qp.slice(1, 0, 3) - center, qp.slice(1, 3, 9)}, 1);
+}
+
+LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
+    cfg.encoder.in_channels = cfg.embedding.dim;
+    embedding = register_module("embedding", NNEmbedding(cfg.embedding));
+    encoder = register_module("encoder", PTv3(cfg.encoder));
+    decoder = register_module("decoder", QueryDecoder(cfg.decoder, encoder->out_channels()));
+}
+
+SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) const {
+    TORCH_CHECK(scene_points.dim() == 2 && scene_points.size(1) == 12, "scene points must be [M, 12], got ", scene_points.sizes());
+    const auto pos = scene_points.slice(1, 0, 3).contiguous();
+    const int64_t m = std::max<int64_t>(1, int64_t(float(pos.size(0)) * cfg.embedding.sample_ratio));
+    SceneGeometry g;
+    g.centers = farthest_point_sampling(pos, m);
+    g.groups = knn(pos.index_select(0, g.centers), pos, std::min<int64_t>(cfg.embedding.k, pos.size(0)));
+    return g;
+}
+
+SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry) {
+    SceneLatents out;
+    out.center = bounding_box_center(scene_points.slice(1, 0, 3));
+    const auto x = normalize_scene_points(scene_points, out.center);
+    const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
+    out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
+    out.features = encoder->forward(tokens, out.anchors);                         // [m, C]
+    return out;
+}
+
+torch::Tensor LtmModelImpl::decode_with_neighbors(const torch::Tensor &query_points, const SceneLatents &latents,
+                                                  const torch::Tensor &idx) {
+    const auto q = normalize_query_points(query_points, latents.center);
+    return decoder->forward(q, latents.features, latents.anchors, idx);
+}
+
+torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents) {
+    const auto q = normalize_query_points(query_points, latents.center);
+    const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
+    const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
+    return decoder->forward(q, latents.features, latents.anchors, idx);
+}
+
+torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
+                                               int64_t chunk) {
+    torch::NoGradGuard no_grad;
+    std::vector<torch::Tensor> parts;
+    for (int64_t s = 0; s < query_points.size(0); s += chunk)
+        parts.push_back(torch::expm1(decode(query_points.slice(0, s, std::min(query_points.size(0), s + chunk)), latents)));
+    return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
+}
+
+int64_t LtmModelImpl::n_parameters() const {
+    int64_t n = 0;
+    for (const auto &p : parameters()) n += p.numel();
+    return n;
+}
+
+torch::Tensor relative_l2_log_loss(const torch::Tensor &z, const torch::Tensor &target, double eps) {
+    TORCH_CHECK(z.sizes() == target.sizes(), "loss: prediction ", z.sizes(), " and target ", target.sizes(), " differ");
+    const auto diff = z - torch::log1p(target);
+    return (diff / (z.detach() + eps)).pow(2).mean();
+}
+
+}  // namespace ltm

@@ -1,0 +1,87 @@
+// query_decoder.cpp: pre-norm residual blocks (h += Attn(LN h); h += FFN(LN h)), softplus output
+// so z = log1p(E⁺) is never negative and the loss denominator stays positive.
+#include "ltm/nn/query_decoder.h"
+
+#include "ltm/nn/nn_embedding.h"
+
+namespace ltm {
+
+VectorCrossAttentionImpl::VectorCrossAttentionImpl(int64_t dim, int64_t latent_dim, int64_t g) : groups(g) {
+    to_q = register_module("to_q", torch::nn::Linear(dim, dim));
+    to_k = register_module("to_k", torch::nn::Linear(latent_dim, dim));
+    to_v = register_module("to_v", torch::nn::Linear(latent_dim, dim));
+    pos_mlp = register_module("pos_mlp", make_mlp(3, dim, dim));
+    weight_mlp = register_module("weight_mlp", make_mlp(dim, groups, groups));
+}
+
+std::pair<torch::Tensor, torch::Tensor> VectorCrossAttentionImpl::project_latents(const torch::Tensor &latents) {
+    return {to_k->forward(latents), to_v->forward(latents)};
+}
+
+torch::Tensor VectorCrossAttentionImpl::forward(const torch::Tensor &h, const torch::Tensor &keys,
+                                                const torch::Tensor &values, const torch::Tensor &idx,
+                                                const torch::Tensor &rel_pos) {
+    TORCH_CHECK(h.dim() == 2 && idx.dim() == 2 && idx.size(0) == h.size(0), "VectorCrossAttention: h [N, D] and idx [N, κ] expected, got ",
+                h.sizes(), " and ", idx.sizes());
+    TORCH_CHECK(rel_pos.dim() == 3 && rel_pos.size(0) == h.size(0) && rel_pos.size(1) == idx.size(1) && rel_pos.size(2) == 3,
+                "VectorCrossAttention: rel_pos must be [N, κ, 3], got ", rel_pos.sizes());
+    const int64_t n = idx.size(0), kappa = idx.size(1), d = h.size(1);
+    const auto flat = idx.reshape(-1);
+    const auto gk = keys.index_select(0, flat).view({n, kappa, d});     // G^k  [N, κ, D]
+    const auto gv = values.index_select(0, flat).view({n, kappa, d});   // G^v  [N, κ, D]
+    const auto p = pos_mlp->forward(rel_pos);                            // γ(Δp) [N, κ, D]  (eq. 10)
+    const auto a = to_q->forward(h).unsqueeze(1) - gk + p;               // A    (eq. 12)
+    const auto w = torch::softmax(weight_mlp->forward(a), /*dim=*/1);    // [N, κ, G], sums to 1 over κ
+    // Contiguous groups: channel c uses weight group c / (D/G).
+    const auto val = (gv + p).view({n, kappa, groups, d / groups});
+    return (val * w.unsqueeze(-1)).sum(1).reshape({n, d});   // (eq. 13)
+}
+
+QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) : cfg(c) {
+    embed = register_module("embed", make_mlp(9, cfg.dim, cfg.dim));
+    out = register_module("out", torch::nn::Sequential(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})),
+                                                       torch::nn::Linear(cfg.dim, cfg.dim), torch::nn::GELU(),
+                                                       torch::nn::Linear(cfg.dim, 3)));
+    if (cfg.type == "knn-mean") {
+        latent_proj = register_module("latent_proj", torch::nn::Linear(latent_dim, cfg.dim));
+        ffn = register_module("ffn", torch::nn::ModuleList(make_mlp(2 * cfg.dim, cfg.dim, cfg.dim)));
+        return;
+    }
+    attention = register_module("attention", torch::nn::ModuleList());
+    norms = register_module("norms", torch::nn::ModuleList());
+    ffn = register_module("ffn", torch::nn::ModuleList());
+    ffn_norms = register_module("ffn_norms", torch::nn::ModuleList());
+    for (int l = 0; l < cfg.n_layers; ++l) {
+        attention->push_back(VectorCrossAttention(cfg.dim, latent_dim, cfg.groups));
+        norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})));
+        ffn->push_back(make_mlp(cfg.dim, 4 * cfg.dim, cfg.dim));
+        ffn_norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})));
+    }
+}
+
+torch::Tensor QueryDecoderImpl::forward(const torch::Tensor &query, const torch::Tensor &latents,
+                                        const torch::Tensor &anchors, const torch::Tensor &idx) {
+    TORCH_CHECK(query.dim() == 2 && query.size(1) == 9, "QueryDecoder: query must be [N, 9], got ", query.sizes());
+    TORCH_CHECK(latents.dim() == 2 && anchors.dim() == 2 && anchors.size(1) == 3 && anchors.size(0) == latents.size(0),
+                "QueryDecoder: latents [m, C] and anchors [m, 3] expected, got ", latents.sizes(), " and ", anchors.sizes());
+    TORCH_CHECK(idx.dim() == 2 && idx.size(0) == query.size(0), "QueryDecoder: idx must be [N, κ], got ", idx.sizes());
+    const int64_t n = idx.size(0), kappa = idx.size(1);
+    auto h = embed->forward(query);   // G̃_j (eq. 9)
+    if (cfg.type == "knn-mean") {
+        const auto lat = latent_proj->forward(latents).index_select(0, idx.reshape(-1)).view({n, kappa, -1}).mean(1);
+        h = h + ffn[0]->as<torch::nn::SequentialImpl>()->forward(torch::cat({h, lat}, 1));
+        return torch::softplus(out->forward(h));
+    }
+    // Δp = p_j − p_k, query minus neighbour (paper eq. 10).
+    const auto rel = query.slice(1, 0, 3).unsqueeze(1) - anchors.index_select(0, idx.reshape(-1)).view({n, kappa, 3});
+    for (int l = 0; l < cfg.n_layers; ++l) {
+        auto attn = attention[size_t(l)]->as<VectorCrossAttentionImpl>();
+        const auto [keys, values] = attn->project_latents(latents);
+        h = h + attn->forward(norms[size_t(l)]->as<torch::nn::LayerNormImpl>()->forward(h), keys, values, idx, rel);
+        h = h + ffn[size_t(l)]->as<torch::nn::SequentialImpl>()->forward(
+                    ffn_norms[size_t(l)]->as<torch::nn::LayerNormImpl>()->forward(h));
+    }
+    return torch::softplus(out->forward(h));   // z = log1p(E⁺) >= 0  (eq. 14)
+}
+
+}  // namespace ltm

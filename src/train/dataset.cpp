@@ -1,0 +1,188 @@
+// dataset.cpp: records = safetensors files; building runs the same library calls as
+// `ltm generate`, `ltm sample --exclude-enclosed` and `ltm bake`.
+#include "ltm/train/dataset.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
+#include "ltm/core/log.h"
+#include "ltm/core/progress.h"
+#include "ltm/points/safetensors.h"
+#include "ltm/points/surface_sampler.h"
+#include "ltm/procgen/indoor_generator.h"
+#include "ltm/render/bake.h"
+#include "ltm/render/enclosure.h"
+
+namespace fs = std::filesystem;
+
+namespace ltm {
+
+DataPreset DataPreset::from_json(const Json &j, const std::string &where) {
+    JsonObject o(j, where);
+    DataPreset p;
+    p.name = o.get_string("name", p.name);
+    p.scene_points = o.get_int("scene_points", p.scene_points);
+    p.query_points = o.get_int("query_points", p.query_points);
+    p.spp = o.get_int("spp", p.spp);
+    p.test_spp = o.get_int("test_spp", p.test_spp);
+    p.max_depth = o.get_int("max_depth", p.max_depth);
+    p.exclude_enclosed = o.get_bool("exclude_enclosed", p.exclude_enclosed);
+    p.generator = o.get_string("generator", p.generator);
+    o.finish();
+    if (p.scene_points < 16 || p.scene_points > k_max_sample_count) LTM_THROW(o.where("scene_points"), ": out of range");
+    if (p.query_points < 1 || p.query_points > k_max_sample_count) LTM_THROW(o.where("query_points"), ": out of range");
+    if (p.spp < 1 || p.test_spp < 1) LTM_THROW(o.where("spp"), ": spp and test_spp must be >= 1");
+    if (p.max_depth < 1) LTM_THROW(o.where("max_depth"), ": must be >= 1");
+    return p;
+}
+
+DataPreset DataPreset::from_file(const std::string &path) { return from_json(parse_json_file(path), path); }
+
+OrderedJson DataPreset::to_json() const {
+    return {{"name", name}, {"scene_points", scene_points}, {"query_points", query_points}, {"spp", spp},
+            {"test_spp", test_spp}, {"max_depth", max_depth}, {"exclude_enclosed", exclude_enclosed},
+            {"generator", generator}};
+}
+
+std::string record_file_name(uint64_t seed) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "scene-%06llu.safetensors", (unsigned long long)seed);
+    return buf;
+}
+
+void write_record(const std::string &path, const SceneRecord &r) {
+    const int64_t m = int64_t(r.scene_points.size()), n = int64_t(r.query_points.size());
+    LTM_CHECK_EQ(r.scene_points.n_columns(), size_t(12));
+    LTM_CHECK_EQ(r.query_points.n_columns(), size_t(9));
+    LTM_CHECK_EQ(r.e_direct.size(), size_t(3 * n));
+    LTM_CHECK_EQ(r.e_indirect.size(), size_t(3 * n));
+    SafetensorsFile f;
+    f.tensors["scene_points"] = make_f32_tensor({m, 12}, r.scene_points.values.data());
+    f.tensors["query_points"] = make_f32_tensor({n, 9}, r.query_points.values.data());
+    f.tensors["E_direct"] = make_f32_tensor({n, 3}, r.e_direct.data());
+    f.tensors["E_indirect"] = make_f32_tensor({n, 3}, r.e_indirect.data());
+    f.metadata["ltm"] = r.metadata.dump();
+    write_safetensors(path, f);
+}
+
+SceneRecord read_record(const std::string &path) {
+    const SafetensorsFile f = read_safetensors(path);
+    SceneRecord r;
+    r.path = path;
+    const auto it = f.metadata.find("ltm");
+    if (it == f.metadata.end()) LTM_THROW(path, ": not an ltm dataset record (no 'ltm' metadata)");
+    r.metadata = OrderedJson::parse(parse_json(it->second, path + " (metadata)").dump());
+    const int version = r.metadata.value("format_version", 0);
+    if (version != k_record_format_version)
+        LTM_THROW(path, ": record format version ", version, ", this build reads ", k_record_format_version);
+    r.seed = r.metadata.value("seed", uint64_t(0));
+    const auto &sp = f.require("scene_points", "F32", {-1, 12}, path);
+    const auto &qp = f.require("query_points", "F32", {-1, 9}, path);
+    const int64_t n = qp.shape[0];
+    r.scene_points = PointSet(scene_point_columns(), size_t(sp.shape[0]));
+    r.scene_points.values = sp.as_f32(path);
+    r.query_points = PointSet(query_point_columns(), size_t(n));
+    r.query_points.values = qp.as_f32(path);
+    r.e_direct = f.require("E_direct", "F32", {n, 3}, path).as_f32(path);
+    r.e_indirect = f.require("E_indirect", "F32", {n, 3}, path).as_f32(path);
+    for (const auto *v : {&r.scene_points.values, &r.query_points.values, &r.e_direct, &r.e_indirect})
+        for (float x : *v)
+            if (!std::isfinite(x)) LTM_THROW(path, ": record contains NaN or Inf");
+    return r;
+}
+
+std::vector<std::string> list_records(const std::string &dir) {
+    if (!fs::is_directory(dir)) LTM_THROW(dir, ": dataset directory not found");
+    std::vector<std::string> out;
+    for (const auto &e : fs::directory_iterator(dir)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind("scene-", 0) == 0 && e.path().extension() == ".safetensors") out.push_back(e.path().string());
+    }
+    std::sort(out.begin(), out.end());   // zero-padded seeds: lexicographic = numeric
+    return out;
+}
+
+namespace {
+SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed, bool test) {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    const GeneratedScene g = generate_indoor(gen, seed);
+    const auto t1 = clock::now();
+    const EmbreeAccel accel(g.scene);
+    SampleFilter filter;
+    if (p.exclude_enclosed) filter = enclosed_filter(accel);
+    SceneRecord r;
+    r.seed = seed;
+    r.scene_points = to_scene_points(sample_surface(g.scene, p.scene_points, seed, SampleStream::scene_points, filter));
+    r.query_points = to_query_points(sample_surface(g.scene, p.query_points, seed, SampleStream::query_points, filter));
+    const auto t2 = clock::now();
+    BakeSettings bs;
+    bs.spp = test ? p.test_spp : p.spp;
+    bs.max_depth = p.max_depth;
+    bs.seed = seed;
+    PathTracerConfig pc;
+    pc.seed = seed;
+    pc.max_depth = p.max_depth;
+    const PathTracer pt(accel, pc);
+    const BakedPoints b = bake_points(pt, r.query_points, 0, int64_t(r.query_points.size()), bs);
+    for (size_t i = 0; i < b.direct.size(); ++i)
+        for (int c = 0; c < 3; ++c) r.e_direct.push_back(b.direct[i][c]), r.e_indirect.push_back(b.indirect[i][c]);
+    const auto t3 = clock::now();
+    auto secs = [](auto a, auto b2) { return std::chrono::duration<double>(b2 - a).count(); };
+    r.metadata = {{"format", "ltm-record"},
+                  {"format_version", k_record_format_version},
+                  {"preset", p.to_json()},
+                  {"test", test},
+                  {"scene", g.scene.name},
+                  {"seed", seed},
+                  {"generator", "ltm-indoor"},
+                  {"generator_version", k_indoor_generator_version},
+                  {"spp", bs.spp},
+                  {"max_depth", p.max_depth},
+                  {"surface_area_m2", g.scene.total_area()},
+                  {"n_rooms", g.rooms.size()},
+                  {"ajar", g.ajar},
+                  {"timings_s", {{"generate", secs(t0, t1)}, {"sample", secs(t1, t2)}, {"bake", secs(t2, t3)}}},
+                  {"rays", b.rays}};
+    return r;
+}
+}  // namespace
+
+void build_dataset(const BuildOptions &opt) {
+    create_directories(opt.out_dir);
+    const GenConfig gen = opt.preset.generator.empty() ? GenConfig{}
+                                                        : GenConfig::from_json(parse_json_file(opt.preset.generator), opt.preset.generator);
+    std::vector<uint64_t> todo;
+    for (uint64_t s : opt.seeds)
+        if (!fs::exists(opt.out_dir + "/" + record_file_name(s))) todo.push_back(s);
+    log_info("dataset: ", opt.seeds.size() - todo.size(), " of ", opt.seeds.size(), " records present, building ", todo.size());
+    Progress progress("dataset", std::max<uint64_t>(1, todo.size()), "scenes");
+    const LogLevel level = log_level();
+    for (uint64_t seed : todo) {
+        set_log_level(LogLevel::quiet);   // per-scene bake bars would drown the dataset bar
+        SceneRecord r;
+        try {
+            r = make_record(opt.preset, gen, seed, opt.test);
+        } catch (...) {
+            set_log_level(level);
+            throw;
+        }
+        set_log_level(level);
+        write_record(opt.out_dir + "/" + record_file_name(seed), r);
+        progress.add(1);
+    }
+    progress.finish();
+    // The manifest describes what is on disk (robust to shards finishing in any order).
+    OrderedJson manifest;
+    manifest["format"] = "ltm-dataset";
+    manifest["format_version"] = k_record_format_version;
+    manifest["preset"] = opt.preset.to_json();
+    manifest["records"] = OrderedJson::array();
+    for (const auto &path : list_records(opt.out_dir)) manifest["records"].push_back(fs::path(path).filename().string());
+    write_file_atomic(opt.out_dir + "/manifest.json", dump_json_compact(manifest));
+}
+
+}  // namespace ltm

@@ -1,0 +1,224 @@
+// trainer.cpp: every random choice of step t (scene, queries, PTv3 order shuffles) is a function
+// of (seed, t), so a resumed run repeats an uninterrupted one exactly.
+#include "ltm/train/trainer.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
+#include "ltm/core/log.h"
+#include "ltm/core/rng.h"
+#include "ltm/nn/checkpoint.h"
+
+namespace fs = std::filesystem;
+
+namespace ltm {
+
+TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
+    JsonObject o(j, where);
+    TrainConfig c;
+    c.steps = o.get_int("steps", c.steps);
+    c.batch_queries = o.get_int("batch_queries", c.batch_queries);
+    c.lr = o.get_float("lr", c.lr);
+    c.min_lr_ratio = o.get_float("min_lr_ratio", c.min_lr_ratio);
+    c.warmup_steps = o.get_int("warmup_steps", c.warmup_steps);
+    c.weight_decay = o.get_float("weight_decay", c.weight_decay);
+    c.grad_clip = o.get_float("grad_clip", c.grad_clip);
+    c.loss_eps = o.get_float("loss_eps", c.loss_eps);
+    c.val_fraction = o.get_float("val_fraction", c.val_fraction);
+    c.val_scenes = o.get_int("val_scenes", c.val_scenes);
+    c.val_queries = o.get_int("val_queries", c.val_queries);
+    c.val_every = o.get_int("val_every", c.val_every);
+    c.ckpt_every = o.get_int("ckpt_every", c.ckpt_every);
+    c.log_every = o.get_int("log_every", c.log_every);
+    c.seed = uint64_t(o.get_int("seed", int(c.seed)));
+    o.finish();
+    if (c.steps < 1 || c.batch_queries < 1 || c.val_every < 1 || c.ckpt_every < 1 || c.log_every < 1 || c.val_queries < 1)
+        LTM_THROW(where, ": steps, batch_queries, val_every, ckpt_every, log_every, val_queries must be >= 1");
+    if (!(c.lr > 0.f) || !(c.loss_eps > 0.f) || !(c.grad_clip > 0.f)) LTM_THROW(where, ": lr, loss_eps, grad_clip must be > 0");
+    if (!(c.val_fraction >= 0.f && c.val_fraction < 1.f)) LTM_THROW(o.where("val_fraction"), ": must be in [0, 1)");
+    return c;
+}
+
+OrderedJson TrainConfig::to_json() const {
+    return {{"steps", steps}, {"batch_queries", batch_queries}, {"lr", lr}, {"min_lr_ratio", min_lr_ratio},
+            {"warmup_steps", warmup_steps}, {"weight_decay", weight_decay}, {"grad_clip", grad_clip},
+            {"loss_eps", loss_eps}, {"val_fraction", val_fraction}, {"val_scenes", val_scenes},
+            {"val_queries", val_queries}, {"val_every", val_every}, {"ckpt_every", ckpt_every},
+            {"log_every", log_every}, {"seed", seed}};
+}
+
+double learning_rate(const TrainConfig &c, int64_t step) {
+    if (step < c.warmup_steps) return double(c.lr) * double(step + 1) / double(c.warmup_steps);
+    const double t = double(step - c.warmup_steps) / double(std::max(1, c.steps - c.warmup_steps));
+    const double lo = double(c.lr) * double(c.min_lr_ratio);
+    return lo + (double(c.lr) - lo) * 0.5 * (1.0 + std::cos(3.14159265358979323846 * std::min(1.0, t)));
+}
+
+Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::string &data_dir,
+                 const std::string &out_dir, torch::Device device)
+    : m_model_cfg(model_cfg), m_cfg(cfg), m_out(out_dir), m_device(device) {
+    const auto records = list_records(data_dir);
+    if (records.empty()) LTM_THROW(data_dir, ": no dataset records (scene-*.safetensors)");
+    size_t n_val = size_t(std::floor(double(records.size()) * double(cfg.val_fraction)));
+    if (cfg.val_fraction > 0.f && records.size() >= 2) n_val = std::max<size_t>(1, n_val);
+    m_train_paths.assign(records.begin(), records.end() - std::ptrdiff_t(n_val));
+    m_val_paths.assign(records.end() - std::ptrdiff_t(n_val), records.end());
+    if (m_val_paths.size() > size_t(cfg.val_scenes)) m_val_paths.resize(size_t(cfg.val_scenes));
+    // The model must match the data: same M, and a record of the expected format.
+    const SceneRecord first = read_record(m_train_paths.front());
+    if (int(first.scene_points.size()) != model_cfg.scene_points)
+        LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (",
+                  model_cfg.name, ") expects ", model_cfg.scene_points, " (dataset preset '",
+                  first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")), "')");
+    torch::manual_seed(cfg.seed);
+    m_model = LtmModel(model_cfg);
+    m_model->to(device);
+    m_opt = std::make_unique<torch::optim::AdamW>(
+        m_model->parameters(), torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay));
+    create_directories(out_dir);
+}
+
+Trainer::CachedScene &Trainer::scene(size_t index) {
+    const std::string &path = index < m_train_paths.size() ? m_train_paths[index] : m_val_paths[index - m_train_paths.size()];
+    auto &slot = m_cache[path];
+    if (!slot) {
+        auto c = std::make_unique<CachedScene>();
+        c->record = read_record(path);
+        const auto &r = c->record;
+        if (int(r.scene_points.size()) != m_model_cfg.scene_points)
+            LTM_THROW(path, ": ", r.scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points);
+        auto to_tensor = [&](const std::vector<float> &v, int64_t cols) {
+            return torch::from_blob(const_cast<float *>(v.data()), {int64_t(v.size()) / cols, cols}, torch::kFloat32).clone();
+        };
+        const auto sp = to_tensor(r.scene_points.values, 12);
+        c->geometry = m_model->scene_geometry(sp);   // FPS + kNN once per scene (CPU), cached
+        c->geometry.centers = c->geometry.centers.to(m_device);
+        c->geometry.groups = c->geometry.groups.to(m_device);
+        c->scene_points = sp.to(m_device);
+        c->query_points = to_tensor(r.query_points.values, 9).to(m_device);
+        c->target = to_tensor(r.e_indirect, 3).to(m_device);
+        slot = std::move(c);
+    }
+    return *slot;
+}
+
+TrainStepLog Trainer::train_step() {
+    const int64_t t = m_step;
+    // Scene: a seeded permutation per epoch; queries: uniform with replacement.
+    const size_t n = m_train_paths.size();
+    const uint64_t epoch = uint64_t(t) / n;
+    std::vector<size_t> perm(n);
+    std::iota(perm.begin(), perm.end(), size_t(0));
+    Pcg32 perm_rng(hash_keys({m_cfg.seed, 0x5ce4e5ull, epoch}));
+    for (size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[perm_rng.next_below(uint32_t(i))]);
+    CachedScene &sc = scene(perm[uint64_t(t) % n]);
+    const int64_t nq = sc.query_points.size(0);
+    Pcg32 q_rng(hash_keys({m_cfg.seed, 0x9e4e5ull, uint64_t(t)}));
+    std::vector<int64_t> pick(size_t(m_cfg.batch_queries));
+    for (auto &p : pick) p = int64_t(q_rng.next_below(uint32_t(nq)));
+    const auto idx = torch::tensor(pick, torch::kInt64).to(m_device);
+    torch::manual_seed(hash_keys({m_cfg.seed, 0x0dde5ull, uint64_t(t)}) >> 1);   // PTv3 order shuffles
+
+    const double lr = learning_rate(m_cfg, t);
+    for (auto &group : m_opt->param_groups()) static_cast<torch::optim::AdamWOptions &>(group.options()).lr(lr);
+    m_model->train();
+    m_opt->zero_grad();
+    const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry);
+    const auto z = m_model->decode(sc.query_points.index_select(0, idx), lat);
+    const auto loss = relative_l2_log_loss(z, sc.target.index_select(0, idx), m_cfg.loss_eps);
+    TrainStepLog log{t, loss.item<double>(), lr, 0.0, false};
+    if (!std::isfinite(log.loss)) {
+        log.skipped = true;
+    } else {
+        loss.backward();
+        log.grad_norm = torch::nn::utils::clip_grad_norm_(m_model->parameters(), m_cfg.grad_clip);
+        if (!std::isfinite(log.grad_norm)) log.skipped = true;
+        else m_opt->step();
+    }
+    if (log.skipped) {
+        m_opt->zero_grad();
+        log_warn("step ", t, ": non-finite loss or gradient, update skipped");
+    }
+    ++m_step;
+    return log;
+}
+
+double Trainer::validate() {
+    if (m_val_paths.empty()) return NAN;
+    torch::NoGradGuard no_grad;
+    m_model->eval();
+    double sum = 0;
+    for (size_t i = 0; i < m_val_paths.size(); ++i) {
+        CachedScene &sc = scene(m_train_paths.size() + i);
+        const int64_t nq = std::min<int64_t>(m_cfg.val_queries, sc.query_points.size(0));
+        const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry);
+        const auto z = m_model->decode(sc.query_points.slice(0, 0, nq), lat);
+        sum += relative_l2_log_loss(z, sc.target.slice(0, 0, nq), m_cfg.loss_eps).item<double>();
+    }
+    m_model->train();
+    return sum / double(m_val_paths.size());
+}
+
+void Trainer::run(bool resume, int64_t stop_at) {
+    const std::string last = m_out + "/last.ltmckpt", best = m_out + "/best.ltmckpt", log_path = m_out + "/log.jsonl";
+    const std::string model_json = m_model_cfg.to_json().dump(), train_json = m_cfg.to_json().dump();
+    if (resume) {
+        if (!fs::exists(last)) LTM_THROW(last, ": nothing to resume from");
+        const TrainState st = read_checkpoint_state(last);
+        if (st.model_config != model_json)
+            LTM_THROW(last, ": checkpoint was trained with another model config; resume with the same --model");
+        load_checkpoint(last, m_model, *m_opt);
+        m_step = st.step;
+        m_best_val = st.best_val;
+        // Drop log lines past the checkpoint (written by the interrupted run after it).
+        std::string kept, line;
+        std::ifstream in(log_path);
+        while (std::getline(in, line))
+            if (!line.empty() && parse_json(line, log_path).value("step", int64_t(0)) < m_step) kept += line + "\n";
+        write_file_atomic(log_path, kept);
+        log_info("resuming at step ", m_step, " from ", last);
+    } else {
+        if (fs::exists(last)) LTM_THROW(last, ": a run exists here; pass --resume to continue it or choose another --out");
+        write_file_atomic(m_out + "/model.json", dump_json_compact(m_model_cfg.to_json()));
+        write_file_atomic(m_out + "/train.json", dump_json_compact(m_cfg.to_json()));
+        write_file_atomic(log_path, "");
+    }
+    std::ofstream log(log_path, std::ios::app);
+    const int64_t end = stop_at >= 0 ? std::min<int64_t>(stop_at, m_cfg.steps) : m_cfg.steps;
+    auto t_last = std::chrono::steady_clock::now();
+    int64_t steps_since = 0;
+    auto save = [&](const std::string &path) {
+        save_checkpoint(path, m_model, *m_opt, {m_step, m_best_val, model_json, train_json});
+    };
+    while (m_step < end) {
+        const TrainStepLog s = train_step();
+        m_history.push_back(s);
+        ++steps_since;
+        if (m_step % m_cfg.log_every == 0 || m_step == end) {
+            const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_last).count();
+            OrderedJson j = {{"step", s.step}, {"loss", s.loss}, {"lr", s.lr}, {"grad_norm", s.grad_norm},
+                             {"skipped", s.skipped}, {"steps_per_s", double(steps_since) / dt},
+                             {"queries_per_s", double(steps_since * m_cfg.batch_queries) / dt}};
+            log << j.dump() << "\n" << std::flush;
+            log_info("step ", m_step, "/", m_cfg.steps, " loss ", s.loss, " lr ", s.lr, " ", double(steps_since) / dt, " steps/s");
+            t_last = std::chrono::steady_clock::now();
+            steps_since = 0;
+        }
+        if (m_step % m_cfg.val_every == 0 || m_step == m_cfg.steps) {
+            const double v = validate();
+            log << OrderedJson({{"step", m_step - 1}, {"val_loss", v}}).dump() << "\n" << std::flush;
+            log_info("step ", m_step, " validation loss ", v, " (", m_val_paths.size(), " held-out scenes)");
+            if (std::isfinite(v) && v < m_best_val) {
+                m_best_val = v;
+                save(best);
+            }
+        }
+        if (m_step % m_cfg.ckpt_every == 0 || m_step == end) save(last);
+    }
+}
+
+}  // namespace ltm

@@ -1,0 +1,89 @@
+// ltm_model_test.cpp: the tiny model end to end: shapes, chunking, checkpoint round trips, and
+// located errors for bad inputs and foreign weights.
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "ltm/core/error.h"
+#include "ltm/nn/checkpoint.h"
+#include "ltm/nn/ltm_model.h"
+#include "ltm/points/surface_sampler.h"
+#include "ltm/scene/builtin_scenes.h"
+#include "test_util.h"
+
+using namespace ltm;
+
+namespace {
+torch::Tensor to_tensor(const PointSet &p) {
+    return torch::from_blob(const_cast<float *>(p.values.data()), {int64_t(p.size()), int64_t(p.n_columns())}).clone();
+}
+struct Fixture {
+    ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    Scene scene = quad_light_room();
+    torch::Tensor sp = to_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 1, SampleStream::scene_points)));
+    torch::Tensor qp = to_tensor(to_query_points(sample_surface(scene, 300, 1, SampleStream::query_points)));
+};
+}  // namespace
+
+TEST(LtmModel, TinyForwardShapesAndChunking) {
+    torch::manual_seed(0);
+    Fixture f;
+    LtmModel model(f.cfg);
+    model->eval();
+    const SceneGeometry g = model->scene_geometry(f.sp);
+    EXPECT_EQ(g.centers.size(0), f.cfg.n_anchors());
+    const SceneLatents lat = model->encode(f.sp, g);
+    EXPECT_EQ(lat.features.size(0), f.cfg.n_anchors());
+    const auto e = model->predict_irradiance(f.qp, lat, /*chunk=*/1 << 20);
+    ASSERT_EQ(e.sizes(), (std::vector<int64_t>{300, 3}));
+    EXPECT_TRUE((e >= 0).all().item<bool>());
+    EXPECT_TRUE(torch::allclose(model->predict_irradiance(f.qp, lat, /*chunk=*/7), e, 1e-5, 1e-6));
+}
+
+TEST(LtmModel, WeightsRoundTripIsBitExact) {
+    torch::manual_seed(1);
+    test::TempDir dir;
+    Fixture f;
+    LtmModel model(f.cfg);
+    model->eval();
+    save_weights(dir.path("w.safetensors"), model, {{"step", "7"}});
+    std::map<std::string, std::string> meta;
+    LtmModel loaded = load_weights(dir.path("w.safetensors"), &meta);
+    loaded->eval();
+    EXPECT_EQ(meta.at("step"), "7");
+    const auto g = model->scene_geometry(f.sp);
+    const auto a = model->predict_irradiance(f.qp, model->encode(f.sp, g));
+    const auto b = loaded->predict_irradiance(f.qp, loaded->encode(f.sp, g));
+    EXPECT_TRUE(torch::equal(a, b));
+}
+
+TEST(LtmModel, ForeignWeightsAndBadInputsAreErrors) {
+    test::TempDir dir;
+    Fixture f;
+    LtmModel tiny(f.cfg);
+    ModelConfig other = f.cfg;
+    other.decoder.n_layers = 2;
+    LtmModel two_layers(other);
+    std::map<std::string, torch::Tensor> tensors;
+    for (const auto &p : two_layers->named_parameters()) tensors[p.key()] = p.value();
+    EXPECT_THROW(load_state(tiny, tensors, "other.safetensors"), Error);
+    EXPECT_THROW(load_weights(dir.path("missing.safetensors")), Error);
+    auto nan = f.sp.clone();
+    nan[3][0] = NAN;
+    EXPECT_THROW(tiny->encode(nan, tiny->scene_geometry(f.sp)), c10::Error);
+    EXPECT_THROW(tiny->scene_geometry(f.sp.slice(1, 0, 9)), c10::Error);
+}
+
+TEST(Loss, RelativeL2InLogSpaceMatchesTheFormula) {
+    const auto z = torch::tensor({0.5f, 1.0f, 2.0f}).view({1, 3});
+    const auto y = torch::tensor({1.0f, 0.0f, 3.0f}).view({1, 3});
+    double expect = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double zi = z[0][i].item<double>(), yi = std::log1p(y[0][i].item<double>());
+        expect += std::pow((zi - yi) / (zi + 1e-2), 2) / 3.0;
+    }
+    EXPECT_NEAR(relative_l2_log_loss(z, y).item<double>(), expect, 1e-6);
+    // The denominator is detached: the gradient is 2(z − log1p y)/(z + ε)² / n.
+    auto zg = z.clone().requires_grad_(true);
+    relative_l2_log_loss(zg, y).backward();
+    EXPECT_NEAR(zg.grad()[0][0].item<double>(), 2 * (0.5 - std::log1p(1.0)) / std::pow(0.51, 2) / 3, 1e-5);
+}

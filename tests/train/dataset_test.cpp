@@ -1,0 +1,69 @@
+// dataset_test.cpp: records round-trip, building is resumable, bad records are located errors.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
+#include "ltm/points/safetensors.h"
+#include "ltm/train/dataset.h"
+#include "test_util.h"
+
+using namespace ltm;
+
+namespace {
+DataPreset small_preset() {
+    DataPreset p = DataPreset::from_file(test::source_path("configs/data/ci.json"));
+    p.query_points = 512;
+    p.spp = 8;
+    return p;
+}
+}  // namespace
+
+TEST(Dataset, BuildWritesRecordsAndSkipsExistingOnes) {
+    test::TempDir dir;
+    BuildOptions opt;
+    opt.preset = small_preset();
+    opt.seeds = {3, 4};
+    opt.out_dir = dir.path("data");
+    build_dataset(opt);
+    const auto records = list_records(opt.out_dir);
+    ASSERT_EQ(records.size(), 2u);
+    const SceneRecord r = read_record(records[0]);
+    EXPECT_EQ(r.seed, 3u);
+    EXPECT_EQ(r.scene_points.size(), 1024u);
+    EXPECT_EQ(r.query_points.size(), 512u);
+    EXPECT_EQ(r.e_indirect.size(), 512u * 3);
+    EXPECT_EQ(r.metadata["preset"]["name"], "ci");
+    double sum = 0;
+    for (float e : r.e_indirect) {
+        EXPECT_GE(e, 0.f);
+        sum += e;
+    }
+    EXPECT_GT(sum, 0.0) << "indirect light must reach some points";
+    const auto before = std::filesystem::last_write_time(records[0]);
+    opt.seeds = {3, 4, 5};
+    build_dataset(opt);   // builds only seed 5
+    EXPECT_EQ(std::filesystem::last_write_time(records[0]), before);
+    EXPECT_EQ(list_records(opt.out_dir).size(), 3u);
+    EXPECT_NE(read_file(opt.out_dir + "/manifest.json").find("scene-000005.safetensors"), std::string::npos);
+}
+
+TEST(Dataset, ForeignOrCorruptRecordsAreErrors) {
+    test::TempDir dir;
+    SafetensorsFile f;
+    const float x[12] = {};
+    f.tensors["scene_points"] = make_f32_tensor({1, 12}, x);
+    f.metadata["ltm"] = R"({"format_version": 99})";
+    write_safetensors(dir.path("scene-000001.safetensors"), f);
+    try {
+        read_record(dir.path("scene-000001.safetensors"));
+        FAIL();
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("version 99"), std::string::npos) << e.what();
+    }
+    write_file_atomic(dir.path("scene-000002.safetensors"), "garbage");
+    EXPECT_THROW(read_record(dir.path("scene-000002.safetensors")), Error);
+    EXPECT_THROW(DataPreset::from_json(parse_json(R"({"spp": 0})", "p.json"), "p.json"), Error);
+    EXPECT_THROW(DataPreset::from_json(parse_json(R"({"sppp": 4})", "p.json"), "p.json"), Error);
+}

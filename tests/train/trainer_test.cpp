@@ -1,0 +1,97 @@
+// trainer_test.cpp: exact resume, the tiny model overfits one scene, schedule shape.
+#include <chrono>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "ltm/core/error.h"
+#include "ltm/core/log.h"
+#include "ltm/train/trainer.h"
+#include "test_util.h"
+
+using namespace ltm;
+
+namespace {
+// One small dataset shared by the tests of this file (built once).
+const std::string &dataset_dir() {
+    static const std::string dir = [] {
+        const std::string d = std::filesystem::temp_directory_path() / ("ltm_trainer_test_data_" + std::to_string(::getpid()));
+        BuildOptions opt;
+        opt.preset = DataPreset::from_file(test::source_path("configs/data/ci.json"));
+        opt.preset.query_points = 2048;
+        opt.preset.spp = 32;
+        opt.seeds = {11, 12};
+        opt.out_dir = d;
+        set_log_level(LogLevel::quiet);
+        build_dataset(opt);
+        return d;
+    }();
+    return dir;
+}
+TrainConfig small_train(int steps) {
+    TrainConfig t;
+    t.steps = steps;
+    t.batch_queries = 1024;
+    t.warmup_steps = 2;
+    t.val_every = 1000, t.ckpt_every = 1000, t.log_every = 1000;
+    t.val_fraction = 0.5f;
+    return t;
+}
+}  // namespace
+
+TEST(Trainer, LearningRateWarmsUpThenDecays) {
+    TrainConfig c;
+    c.steps = 100, c.warmup_steps = 10, c.lr = 1.f, c.min_lr_ratio = 0.1f;
+    EXPECT_NEAR(learning_rate(c, 0), 0.1, 1e-9);
+    EXPECT_NEAR(learning_rate(c, 9), 1.0, 1e-9);
+    EXPECT_NEAR(learning_rate(c, 99), 0.1, 1e-3);
+    EXPECT_GT(learning_rate(c, 30), learning_rate(c, 60));
+}
+
+// 3 steps + resume + 3 steps == 6 uninterrupted steps, loss for loss, bit for bit.
+TEST(Trainer, ResumeRepeatsTheUninterruptedLossSequence) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    Trainer full(mc, small_train(6), dataset_dir(), dir.path("full"));
+    full.run(false);
+    Trainer first(mc, small_train(6), dataset_dir(), dir.path("split"));
+    first.run(false, /*stop_at=*/3);
+    Trainer second(mc, small_train(6), dataset_dir(), dir.path("split"));
+    second.run(true);
+    ASSERT_EQ(full.history().size(), 6u);
+    ASSERT_EQ(first.history().size() + second.history().size(), 6u);
+    for (size_t i = 0; i < 6; ++i) {
+        const double resumed = i < 3 ? first.history()[i].loss : second.history()[i - 3].loss;
+        EXPECT_EQ(full.history()[i].loss, resumed) << "step " << i;
+    }
+    EXPECT_THROW(Trainer(mc, small_train(6), dataset_dir(), dir.path("full")).run(false), Error);   // would overwrite
+}
+
+// The tiny model memorises one scene: the loss falls at least 10× within a minute.
+TEST(Trainer, TinyModelOverfitsOneScene) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    TrainConfig t = small_train(600);
+    t.val_fraction = 0.f;
+    t.lr = 3e-3f;
+    t.warmup_steps = 10;
+    // A one-record dataset whose 256 query points are all in every batch: pure memorisation.
+    const std::string one = dir.path("one");
+    std::filesystem::create_directories(one);
+    SceneRecord rec = read_record(list_records(dataset_dir()).front());
+    rec.query_points.values.resize(256 * 9);
+    rec.e_direct.resize(256 * 3);
+    rec.e_indirect.resize(256 * 3);
+    write_record(one + "/" + record_file_name(rec.seed), rec);
+    t.batch_queries = 256;
+    Trainer trainer(mc, t, one, dir.path("run"));
+    const auto t0 = std::chrono::steady_clock::now();
+    trainer.run(false);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto &h = trainer.history();
+    double first = 0, last = 0;
+    for (int i = 0; i < 10; ++i) first += h[size_t(i)].loss / 10, last += h[h.size() - 1 - size_t(i)].loss / 10;
+    EXPECT_LT(last, first / 10) << "first " << first << " last " << last;
+    EXPECT_LT(secs, 60.0);
+    std::cout << "overfit: loss " << first << " -> " << last << " in " << secs << " s\n";
+}
