@@ -2,6 +2,8 @@
 #include "ltm/core/json_util.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "ltm/core/error.h"
@@ -101,6 +103,15 @@ const Json &JsonObject::at(const std::string &key) {
 const Json &JsonObject::require(const std::string &key) {
     if (!has(key)) LTM_THROW(m_where, ": missing required key '", key, "'");
     return at(key);
+}
+
+double json_float(float f) {
+    char buf[40];
+    for (int prec = 6; prec <= 9; ++prec) {
+        std::snprintf(buf, sizeof buf, "%.*g", prec, double(f));
+        if (std::strtof(buf, nullptr) == f) break;
+    }
+    return std::strtod(buf, nullptr);
 }
 
 float json_to_float(const Json &v, const std::string &where) {

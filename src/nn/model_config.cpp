@@ -57,7 +57,7 @@ OrderedJson ModelConfig::to_json() const {
     OrderedJson j;
     j["name"] = name;
     j["scene_points"] = scene_points;
-    j["embedding"] = {{"dim", embedding.dim}, {"k", embedding.k}, {"sample_ratio", embedding.sample_ratio},
+    j["embedding"] = {{"dim", embedding.dim}, {"k", embedding.k}, {"sample_ratio", json_float(embedding.sample_ratio)},
                       {"relative_position", embedding.relative_position}};
     OrderedJson enc = encoder.to_json();
     enc.erase("in_channels");   // derived from embedding.dim

@@ -12,15 +12,6 @@ namespace ltm {
 
 namespace {
 
-// Shortest decimal that reads back as the same float (JSON shows 0.2, not 0.200000003).
-double clean(float f) {
-    char buf[40];
-    for (int prec = 6; prec <= 9; ++prec) {
-        std::snprintf(buf, sizeof buf, "%.*g", prec, double(f));
-        if (std::strtof(buf, nullptr) == f) break;
-    }
-    return std::strtod(buf, nullptr);
-}
 
 // Voxel key with 16 bits per axis: ordered by (x, y, z), decodable.  g [n, 3] int64 -> [n]
 torch::Tensor pack_key(const torch::Tensor &g) {
@@ -85,7 +76,7 @@ PTv3Config PTv3Config::from_json(const Json &j, const std::string &where) {
 OrderedJson PTv3Config::to_json() const {
     OrderedJson j;
     j["in_channels"] = in_channels;
-    j["grid_size"] = clean(grid_size);
+    j["grid_size"] = json_float(grid_size);
     j["enc_depths"] = enc_depths;
     j["enc_channels"] = enc_channels;
     j["enc_heads"] = enc_heads;
@@ -98,7 +89,7 @@ OrderedJson PTv3Config::to_json() const {
     j["shuffle_orders"] = shuffle_orders;
     j["mlp_ratio"] = mlp_ratio;
     j["attention"] = attention;
-    j["drop_path"] = clean(drop_path);
+    j["drop_path"] = json_float(drop_path);
     j["enable_cpe"] = enable_cpe;
     return j;
 }

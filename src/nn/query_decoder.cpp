@@ -10,7 +10,6 @@ VectorCrossAttentionImpl::VectorCrossAttentionImpl(int64_t dim, int64_t latent_d
     to_q = register_module("to_q", torch::nn::Linear(dim, dim));
     to_k = register_module("to_k", torch::nn::Linear(latent_dim, dim));
     to_v = register_module("to_v", torch::nn::Linear(latent_dim, dim));
-    pos_mlp = register_module("pos_mlp", make_mlp(3, dim, dim));
     weight_mlp = register_module("weight_mlp", make_mlp(dim, groups, groups));
 }
 
@@ -20,20 +19,19 @@ std::pair<torch::Tensor, torch::Tensor> VectorCrossAttentionImpl::project_latent
 
 torch::Tensor VectorCrossAttentionImpl::forward(const torch::Tensor &h, const torch::Tensor &keys,
                                                 const torch::Tensor &values, const torch::Tensor &idx,
-                                                const torch::Tensor &rel_pos) {
+                                                const torch::Tensor &pos) {
     TORCH_CHECK(h.dim() == 2 && idx.dim() == 2 && idx.size(0) == h.size(0), "VectorCrossAttention: h [N, D] and idx [N, κ] expected, got ",
                 h.sizes(), " and ", idx.sizes());
-    TORCH_CHECK(rel_pos.dim() == 3 && rel_pos.size(0) == h.size(0) && rel_pos.size(1) == idx.size(1) && rel_pos.size(2) == 3,
-                "VectorCrossAttention: rel_pos must be [N, κ, 3], got ", rel_pos.sizes());
+    TORCH_CHECK(pos.dim() == 3 && pos.size(0) == h.size(0) && pos.size(1) == idx.size(1) && pos.size(2) == h.size(1),
+                "VectorCrossAttention: pos must be [N, κ, D], got ", pos.sizes());
     const int64_t n = idx.size(0), kappa = idx.size(1), d = h.size(1);
     const auto flat = idx.reshape(-1);
     const auto gk = keys.index_select(0, flat).view({n, kappa, d});     // G^k  [N, κ, D]
     const auto gv = values.index_select(0, flat).view({n, kappa, d});   // G^v  [N, κ, D]
-    const auto p = pos_mlp->forward(rel_pos);                            // γ(Δp) [N, κ, D]  (eq. 10)
-    const auto a = to_q->forward(h).unsqueeze(1) - gk + p;               // A    (eq. 12)
+    const auto a = to_q->forward(h).unsqueeze(1) - gk + pos;             // A    (eq. 12)
     const auto w = torch::softmax(weight_mlp->forward(a), /*dim=*/1);    // [N, κ, G], sums to 1 over κ
     // Contiguous groups: channel c uses weight group c / (D/G).
-    const auto val = (gv + p).view({n, kappa, groups, d / groups});
+    const auto val = (gv + pos).view({n, kappa, groups, d / groups});
     return (val * w.unsqueeze(-1)).sum(1).reshape({n, d});   // (eq. 13)
 }
 
@@ -47,6 +45,9 @@ QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) :
         ffn = register_module("ffn", torch::nn::ModuleList(make_mlp(2 * cfg.dim, cfg.dim, cfg.dim)));
         return;
     }
+    // No LayerNorm inside γ: it runs on [N, κ, D] and normalising there costs more than the MLP.
+    pos_mlp = register_module("pos_mlp", torch::nn::Sequential(torch::nn::Linear(3, cfg.dim), torch::nn::ReLU(),
+                                                               torch::nn::Linear(cfg.dim, cfg.dim)));
     attention = register_module("attention", torch::nn::ModuleList());
     norms = register_module("norms", torch::nn::ModuleList());
     ffn = register_module("ffn", torch::nn::ModuleList());
@@ -74,10 +75,11 @@ torch::Tensor QueryDecoderImpl::forward(const torch::Tensor &query, const torch:
     }
     // Δp = p_j − p_k, query minus neighbour (paper eq. 10).
     const auto rel = query.slice(1, 0, 3).unsqueeze(1) - anchors.index_select(0, idx.reshape(-1)).view({n, kappa, 3});
+    const auto pos = pos_mlp->forward(rel);   // γ(Δp) [N, κ, D] (eq. 10), shared by the blocks
     for (int l = 0; l < cfg.n_layers; ++l) {
         auto attn = attention[size_t(l)]->as<VectorCrossAttentionImpl>();
         const auto [keys, values] = attn->project_latents(latents);
-        h = h + attn->forward(norms[size_t(l)]->as<torch::nn::LayerNormImpl>()->forward(h), keys, values, idx, rel);
+        h = h + attn->forward(norms[size_t(l)]->as<torch::nn::LayerNormImpl>()->forward(h), keys, values, idx, pos);
         h = h + ffn[size_t(l)]->as<torch::nn::SequentialImpl>()->forward(
                     ffn_norms[size_t(l)]->as<torch::nn::LayerNormImpl>()->forward(h));
     }

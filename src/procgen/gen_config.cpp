@@ -33,16 +33,7 @@ std::map<std::string, ArchetypeRanges> default_archetypes() {
 
 namespace {
 
-// Shortest decimal that reads back as the same float, so the JSON shows 0.1, not 0.100000001.
-double clean(float f) {
-    char buf[40];
-    for (int prec = 6; prec <= 9; ++prec) {
-        std::snprintf(buf, sizeof buf, "%.*g", prec, double(f));
-        if (std::strtof(buf, nullptr) == f) break;
-    }
-    return std::strtod(buf, nullptr);
-}
-OrderedJson range_json(Vec2f r) { return OrderedJson::array({clean(r.x), clean(r.y)}); }
+OrderedJson range_json(Vec2f r) { return OrderedJson::array({json_float(r.x), json_float(r.y)}); }
 OrderedJson range_json(IntRange r) { return OrderedJson::array({r.lo, r.hi}); }
 
 // Readers: keep the default when the key is absent, validate when present.
@@ -226,82 +217,82 @@ GenConfig GenConfig::from_json(const Json &j, const std::string &where) {
 OrderedJson GenConfig::to_json() const {
     OrderedJson j;
     OrderedJson &p = j["plan"];
-    p["weight_single"] = clean(plan.weight_single);
-    p["weight_l_room"] = clean(plan.weight_l_room);
-    p["weight_bsp"] = clean(plan.weight_bsp);
-    p["weight_hallway"] = clean(plan.weight_hallway);
-    p["weight_l_split"] = clean(plan.weight_l_split);
+    p["weight_single"] = json_float(plan.weight_single);
+    p["weight_l_room"] = json_float(plan.weight_l_room);
+    p["weight_bsp"] = json_float(plan.weight_bsp);
+    p["weight_hallway"] = json_float(plan.weight_hallway);
+    p["weight_l_split"] = json_float(plan.weight_l_split);
     p["footprint_size"] = range_json(plan.footprint_size);
     p["n_rooms"] = range_json(plan.n_rooms);
     p["split_fraction"] = range_json(plan.split_fraction);
     p["l_cut_fraction"] = range_json(plan.l_cut_fraction);
     p["hallway_width"] = range_json(plan.hallway_width);
     p["hallway_rooms_per_side"] = range_json(plan.hallway_rooms_per_side);
-    p["p_hallway_two_sided"] = clean(plan.p_hallway_two_sided);
-    p["snap"] = clean(plan.snap);
+    p["p_hallway_two_sided"] = json_float(plan.p_hallway_two_sided);
+    p["snap"] = json_float(plan.snap);
     p["max_attempts"] = plan.max_attempts;
 
     OrderedJson &r = j["rooms"];
     r["size"] = range_json(rooms.size);
     r["l_room_size"] = range_json(rooms.l_room_size);
-    r["min_side"] = clean(rooms.min_side);
+    r["min_side"] = json_float(rooms.min_side);
     r["ceiling_height"] = range_json(rooms.ceiling_height);
 
-    j["walls"]["thickness"] = clean(walls.thickness);
+    j["walls"]["thickness"] = json_float(walls.thickness);
 
     OrderedJson &d = j["doors"];
     d["width"] = range_json(doors.width);
     d["height"] = range_json(doors.height);
-    d["corner_margin"] = clean(doors.corner_margin);
-    d["p_extra"] = clean(doors.p_extra);
-    d["clear_depth"] = clean(doors.clear_depth);
-    d["clear_side"] = clean(doors.clear_side);
+    d["corner_margin"] = json_float(doors.corner_margin);
+    d["p_extra"] = json_float(doors.p_extra);
+    d["clear_depth"] = json_float(doors.clear_depth);
+    d["clear_side"] = json_float(doors.clear_side);
 
     OrderedJson &f = j["furniture"];
     f["density"] = range_json(furniture.density);
     f["items_per_room"] = range_json(furniture.items_per_room);
-    f["hallway_density_scale"] = clean(furniture.hallway_density_scale);
-    f["clearance"] = clean(furniture.clearance);
-    f["wall_gap"] = clean(furniture.wall_gap);
-    f["p_carpet"] = clean(furniture.p_carpet);
+    f["hallway_density_scale"] = json_float(furniture.hallway_density_scale);
+    f["clearance"] = json_float(furniture.clearance);
+    f["wall_gap"] = json_float(furniture.wall_gap);
+    f["p_carpet"] = json_float(furniture.p_carpet);
     f["max_attempts"] = furniture.max_attempts;
     f["ajar_light_room_max_items"] = furniture.ajar_light_room_max_items;
     OrderedJson &arch = f["archetypes"];
     arch = OrderedJson::object();
     for (const auto &[name, a] : furniture.archetypes) {   // std::map: sorted, stable
         OrderedJson &aj = arch[name];
-        aj["weight"] = clean(a.weight);
+        aj["weight"] = json_float(a.weight);
         aj["width"] = range_json(a.width);
         aj["depth"] = range_json(a.depth);
         aj["height"] = range_json(a.height);
     }
 
     OrderedJson &t = j["textures"];
-    t["p_floor_wood"] = clean(textures.p_floor_wood);
-    t["p_floor_tiles"] = clean(textures.p_floor_tiles);
-    t["p_wall_pattern"] = clean(textures.p_wall_pattern);
-    t["p_accent_wall"] = clean(textures.p_accent_wall);
-    t["p_carpet_pattern"] = clean(textures.p_carpet_pattern);
-    t["p_furniture_wood"] = clean(textures.p_furniture_wood);
-    t["p_fabric_pattern"] = clean(textures.p_fabric_pattern);
-    t["p_saturated_fabric"] = clean(textures.p_saturated_fabric);
+    t["p_floor_wood"] = json_float(textures.p_floor_wood);
+    t["p_floor_tiles"] = json_float(textures.p_floor_tiles);
+    t["p_wall_pattern"] = json_float(textures.p_wall_pattern);
+    t["p_accent_wall"] = json_float(textures.p_accent_wall);
+    t["p_carpet_pattern"] = json_float(textures.p_carpet_pattern);
+    t["p_furniture_wood"] = json_float(textures.p_furniture_wood);
+    t["p_fabric_pattern"] = json_float(textures.p_fabric_pattern);
+    t["p_saturated_fabric"] = json_float(textures.p_saturated_fabric);
     t["wood_scale"] = range_json(textures.wood_scale);
     t["tile_scale"] = range_json(textures.tile_scale);
     t["stripe_scale"] = range_json(textures.stripe_scale);
     t["noise_scale"] = range_json(textures.noise_scale);
-    t["color_jitter"] = clean(textures.color_jitter);
+    t["color_jitter"] = json_float(textures.color_jitter);
 
     OrderedJson &l = j["lights"];
     l["per_room"] = range_json(lights.per_room);
     l["size"] = range_json(lights.size);
     l["temperature"] = range_json(lights.temperature);
     l["power_density"] = range_json(lights.power_density);
-    l["wall_margin"] = clean(lights.wall_margin);
-    l["light_gap"] = clean(lights.light_gap);
-    l["tall_height"] = clean(lights.tall_height);
-    l["tall_clearance"] = clean(lights.tall_clearance);
-    l["ceiling_gap"] = clean(lights.ceiling_gap);
-    l["p_ajar"] = clean(lights.p_ajar);
+    l["wall_margin"] = json_float(lights.wall_margin);
+    l["light_gap"] = json_float(lights.light_gap);
+    l["tall_height"] = json_float(lights.tall_height);
+    l["tall_clearance"] = json_float(lights.tall_clearance);
+    l["ceiling_gap"] = json_float(lights.ceiling_gap);
+    l["p_ajar"] = json_float(lights.p_ajar);
     l["max_attempts"] = lights.max_attempts;
 
     OrderedJson &c = j["camera"];
@@ -310,8 +301,8 @@ OrderedJson GenConfig::to_json() const {
     c["fov_y"] = range_json(camera.fov_y);
     c["eye_height"] = range_json(camera.eye_height);
     c["target_height"] = range_json(camera.target_height);
-    c["wall_margin"] = clean(camera.wall_margin);
-    c["furniture_clearance"] = clean(camera.furniture_clearance);
+    c["wall_margin"] = json_float(camera.wall_margin);
+    c["furniture_clearance"] = json_float(camera.furniture_clearance);
     c["n_candidates"] = camera.n_candidates;
     return j;
 }

@@ -44,9 +44,9 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
 }
 
 OrderedJson TrainConfig::to_json() const {
-    return {{"steps", steps}, {"batch_queries", batch_queries}, {"lr", lr}, {"min_lr_ratio", min_lr_ratio},
-            {"warmup_steps", warmup_steps}, {"weight_decay", weight_decay}, {"grad_clip", grad_clip},
-            {"loss_eps", loss_eps}, {"val_fraction", val_fraction}, {"val_scenes", val_scenes},
+    return {{"steps", steps}, {"batch_queries", batch_queries}, {"lr", json_float(lr)}, {"min_lr_ratio", json_float(min_lr_ratio)},
+            {"warmup_steps", warmup_steps}, {"weight_decay", json_float(weight_decay)}, {"grad_clip", json_float(grad_clip)},
+            {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
             {"val_queries", val_queries}, {"val_every", val_every}, {"ckpt_every", ckpt_every},
             {"log_every", log_every}, {"seed", seed}};
 }

@@ -7,7 +7,7 @@
 
 using namespace ltm;
 
-// With a single neighbour the softmax weight is 1: the output is G^v + γ(Δp).
+// With a single neighbour the softmax weight is 1: the output is G^v + P.
 TEST(VectorCrossAttention, SingleNeighbourReturnsValuePlusPosition) {
     torch::manual_seed(3);
     VectorCrossAttention attn(/*dim=*/16, /*latent_dim=*/24, /*groups=*/4);
@@ -15,9 +15,9 @@ TEST(VectorCrossAttention, SingleNeighbourReturnsValuePlusPosition) {
     const auto [k, v] = attn->project_latents(latents);
     const auto h = torch::randn({7, 16});
     const auto idx = torch::randint(0, 10, {7, 1}, torch::kInt64);
-    const auto rel = torch::randn({7, 1, 3});
-    const auto out = attn->forward(h, k, v, idx, rel);
-    const auto expect = v.index_select(0, idx.view(-1)) + attn->pos_mlp->forward(rel).view({7, 16});
+    const auto pos = torch::randn({7, 1, 16});
+    const auto out = attn->forward(h, k, v, idx, pos);
+    const auto expect = v.index_select(0, idx.view(-1)) + pos.view({7, 16});
     EXPECT_TRUE(torch::allclose(out, expect, 1e-5, 1e-6));
 }
 

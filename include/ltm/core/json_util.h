@@ -60,6 +60,10 @@ private:
     std::set<std::string> m_used;
 };
 
+/// The shortest decimal that reads back as the same float, as a JSON number: config files show
+/// 0.1, not 0.10000000149011612.
+double json_float(float f);
+
 /// Parses a float with the error naming `where` (for values outside objects).
 float json_to_float(const Json &v, const std::string &where);
 Vec3f json_to_vec3(const Json &v, const std::string &where);

@@ -9,19 +9,21 @@
 
 namespace ltm {
 
-/// One cross-attention block. G^q = W_q h, relation A = G^q − G^k + γ(Δp) (eq. 12),
-/// weights = softmax_κ(MLP_w(A)) per group, out = Σ_κ w ⊙ (G^v + γ(Δp)) (eq. 13).
+/// One cross-attention block. G^q = W_q h, relation A = G^q − G^k + P (eq. 12) with
+/// P = γ(Δp) computed once per query by the decoder and shared by all blocks (it depends only on
+/// geometry; sharing it halves the [N, κ, D] work), weights = softmax_κ(MLP_w(A)) per group,
+/// out = Σ_κ w ⊙ (G^v + P) (eq. 13).
 struct VectorCrossAttentionImpl : torch::nn::Module {
     VectorCrossAttentionImpl(int64_t dim, int64_t latent_dim, int64_t groups);
     /// W_k, W_v applied to all m latents once (linear maps commute with the gather).
     ///   latents [m, C] -> (keys [m, D], values [m, D])
     std::pair<torch::Tensor, torch::Tensor> project_latents(const torch::Tensor &latents);
-    //   h [N, D], keys/values [m, D], idx [N, κ], rel_pos [N, κ, 3]  ->  [N, D]
+    //   h [N, D], keys/values [m, D], idx [N, κ], pos [N, κ, D] (= γ(Δp))  ->  [N, D]
     torch::Tensor forward(const torch::Tensor &h, const torch::Tensor &keys, const torch::Tensor &values,
-                          const torch::Tensor &idx, const torch::Tensor &rel_pos);
+                          const torch::Tensor &idx, const torch::Tensor &pos);
     int64_t groups;
     torch::nn::Linear to_q{nullptr}, to_k{nullptr}, to_v{nullptr};
-    torch::nn::Sequential pos_mlp{nullptr}, weight_mlp{nullptr};   // γ(Δp) and the A → weights MLP
+    torch::nn::Sequential weight_mlp{nullptr};   // A → per-group weights
 };
 TORCH_MODULE(VectorCrossAttention);
 
@@ -32,6 +34,7 @@ struct QueryDecoderImpl : torch::nn::Module {
                           const torch::Tensor &idx);
     DecoderConfig cfg;
     torch::nn::Sequential embed{nullptr}, out{nullptr};            // 𝓗 (eq. 9) and 𝓦_out (eq. 14)
+    torch::nn::Sequential pos_mlp{nullptr};                        // γ(Δp) (eq. 10): Linear → ReLU → Linear
     torch::nn::ModuleList attention{nullptr}, norms{nullptr}, ffn{nullptr}, ffn_norms{nullptr};
     torch::nn::Linear latent_proj{nullptr};                       // knn-mean ablation only
 };

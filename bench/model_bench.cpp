@@ -1,0 +1,105 @@
+// model_bench.cpp: model timings on CPU beside the machine's GEMM rate measured in the same run.
+//   build/bench/model_bench [--benchmark_filter=...]
+// Scene: 8192 (or 20000) points on the walls, floor and furniture of a generated indoor scene;
+// 8192 queries. Forward = encode + decode; step = forward + backward + AdamW.
+#include <benchmark/benchmark.h>
+
+#include <malloc.h>
+
+#include "ltm/core/log.h"
+#include "ltm/core/startup.h"
+#include "ltm/nn/ltm_model.h"
+#include "ltm/points/surface_sampler.h"
+#include "ltm/procgen/indoor_generator.h"
+
+using namespace ltm;
+
+namespace {
+torch::Tensor points(int64_t n, SampleStream stream, bool scene) {
+    static const Scene s = generate_indoor(GenConfig{}, 7).scene;
+    const auto x = sample_surface(s, n, 1, stream);
+    const PointSet p = scene ? to_scene_points(x) : to_query_points(x);
+    return torch::from_blob(const_cast<float *>(p.values.data()), {n, int64_t(p.n_columns())}).clone();
+}
+ModelConfig preset(const std::string &name) { return ModelConfig::from_file(std::string(LTM_SOURCE_DIR) + "/configs/model/" + name + ".json"); }
+double mb(size_t bytes) { return double(bytes) / double(1 << 20); }
+}  // namespace
+
+// 1024² float GEMM: the machine's attainable FLOP rate in this run.
+static void BM_Gemm1024(benchmark::State &state) {
+    const auto a = torch::randn({1024, 1024}), b = torch::randn({1024, 1024});
+    auto c = torch::empty({1024, 1024});
+    for (auto _ : state) torch::mm_out(c, a, b);
+    state.counters["GFLOP/s"] = benchmark::Counter(2.0 * 1024 * 1024 * 1024 * 1e-9 * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Gemm1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Encoder (embedding + PTv3) at M scene points; arg0 = M, arg1 = preset (0 cpu, 1 paper).
+static void BM_Encode(benchmark::State &state) {
+    torch::manual_seed(0);
+    ModelConfig cfg = preset(state.range(1) ? "paper" : "cpu");
+    cfg.scene_points = int(state.range(0));
+    LtmModel model(cfg);
+    model->eval();
+    torch::NoGradGuard ng;
+    const auto sp = points(state.range(0), SampleStream::scene_points, true);
+    const SceneGeometry g = model->scene_geometry(sp);
+    for (auto _ : state) benchmark::DoNotOptimize(model->encode(sp, g).features.data_ptr());
+}
+BENCHMARK(BM_Encode)->Args({8192, 0})->Args({20000, 0})->Args({20000, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// FPS + kNN once per scene (cached in training and rendering).
+static void BM_SceneGeometry(benchmark::State &state) {
+    LtmModel model(preset("cpu"));
+    const auto sp = points(state.range(0), SampleStream::scene_points, true);
+    for (auto _ : state) benchmark::DoNotOptimize(model->scene_geometry(sp).groups.data_ptr());
+}
+BENCHMARK(BM_SceneGeometry)->Arg(8192)->Arg(20000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// Decoder throughput (queries/s) incl. the kNN among anchors, 65536 queries per call.
+static void BM_DecodeQueries(benchmark::State &state) {
+    torch::manual_seed(0);
+    LtmModel model(preset("cpu"));
+    model->eval();
+    torch::NoGradGuard ng;
+    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
+    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
+    for (auto _ : state) benchmark::DoNotOptimize(model->predict_irradiance(qp, lat, state.range(0)).data_ptr());
+    state.SetItemsProcessed(state.iterations() * 65536);
+}
+// arg = queries per chunk
+BENCHMARK(BM_DecodeQueries)->Arg(1024)->Arg(4096)->Arg(16384)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// One training step of a preset: encode + decode 8192 queries + loss + backward + AdamW.
+static void BM_TrainStep(benchmark::State &state) {
+    torch::manual_seed(0);
+    const ModelConfig cfg = preset(state.range(0) ? "paper" : "cpu");
+    LtmModel model(cfg);
+    torch::optim::AdamW opt(model->parameters(), torch::optim::AdamWOptions(1e-4));
+    const auto sp = points(cfg.scene_points, SampleStream::scene_points, true);
+    const auto qp = points(8192, SampleStream::query_points, false);
+    const auto target = torch::rand({8192, 3});
+    const SceneGeometry g = model->scene_geometry(sp);
+    double fwd = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        opt.zero_grad();
+        const auto loss = relative_l2_log_loss(model->decode(qp, model->encode(sp, g)), target);
+        fwd += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        loss.backward();
+        opt.step();
+    }
+    state.counters["forward_ms"] = 1e3 * fwd / double(state.iterations());
+    state.counters["params_M"] = double(model->n_parameters()) * 1e-6;
+    const struct mallinfo2 mi = mallinfo2();
+    state.counters["heap_MB"] = mb(mi.arena + mi.hblkhd);
+}
+BENCHMARK(BM_TrainStep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+int main(int argc, char **argv) {
+    configure_process();
+    set_log_level(LogLevel::quiet);
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    return 0;
+}
