@@ -6,8 +6,12 @@
 
 #include <malloc.h>
 
+#include <chrono>
+
 #include "ltm/core/log.h"
 #include "ltm/core/startup.h"
+#include "ltm/nn/fused_decoder.h"
+#include "ltm/nn/knn.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/procgen/indoor_generator.h"
@@ -69,6 +73,65 @@ static void BM_DecodeQueries(benchmark::State &state) {
 }
 // arg = queries per chunk
 BENCHMARK(BM_DecodeQueries)->Arg(1024)->Arg(4096)->Arg(16384)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// The same with the libtorch modules instead of FusedDecoder (the path before the fused kernel).
+static void BM_DecodeQueriesLibtorch(benchmark::State &state) {
+    torch::manual_seed(0);
+    LtmModel model(preset("cpu"));
+    model->eval();
+    model->fused_inference = false;
+    torch::NoGradGuard ng;
+    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
+    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
+    for (auto _ : state) benchmark::DoNotOptimize(model->predict_irradiance(qp, lat, state.range(0)).data_ptr());
+    state.SetItemsProcessed(state.iterations() * 65536);
+}
+BENCHMARK(BM_DecodeQueriesLibtorch)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// Decoder alone (kNN precomputed), 65536 queries: arg 0 = QueryDecoder::forward in chunks of 1024,
+// arg 1 = FusedDecoder::forward in one call (its build + prepare excluded, reported as build_ms).
+static void BM_DecodeKernel(benchmark::State &state) {
+    torch::manual_seed(0);
+    LtmModel model(preset("cpu"));
+    model->eval();
+    torch::NoGradGuard ng;
+    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
+    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
+    const auto q = normalize_query_points(qp, lat.center);
+    const auto idx = knn(q.slice(1, 0, 3).contiguous(), lat.anchors.contiguous(), model->cfg.decoder.n_neighbors);
+    const auto t0 = std::chrono::steady_clock::now();
+    FusedDecoder fused(*model->decoder);
+    fused.prepare(lat.features);
+    state.counters["build_ms"] = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (auto _ : state) {
+        if (state.range(0) == 1) {
+            benchmark::DoNotOptimize(fused.forward(q, lat.anchors, idx).data_ptr());
+            continue;
+        }
+        for (int64_t s = 0; s < q.size(0); s += 1024)
+            benchmark::DoNotOptimize(model->decoder->forward(q.slice(0, s, s + 1024), lat.features, lat.anchors,
+                                                             idx.slice(0, s, s + 1024)).data_ptr());
+    }
+    state.SetItemsProcessed(state.iterations() * 65536);
+}
+BENCHMARK(BM_DecodeKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// kNN among anchors alone, 65536 queries in chunks of 1024 (as predict_irradiance).
+static void BM_DecodeKnn(benchmark::State &state) {
+    torch::manual_seed(0);
+    LtmModel model(preset("cpu"));
+    model->eval();
+    torch::NoGradGuard ng;
+    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
+    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
+    const auto q = normalize_query_points(qp, lat.center);
+    for (auto _ : state)
+        for (int64_t s = 0; s < q.size(0); s += 1024)
+            benchmark::DoNotOptimize(knn(q.slice(0, s, s + 1024).slice(1, 0, 3).contiguous(), lat.anchors.contiguous(),
+                                         model->cfg.decoder.n_neighbors).data_ptr());
+    state.SetItemsProcessed(state.iterations() * 65536);
+}
+BENCHMARK(BM_DecodeKnn)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
 // One training step of a preset: encode + decode 8192 queries + loss + backward + AdamW.
 static void BM_TrainStep(benchmark::State &state) {

@@ -12,7 +12,7 @@ void configure_process() {
     // Serve even huge blocks from the heap (no per-allocation mmap), and keep freed memory
     // instead of returning it to the OS, so repeated tensor/buffer allocations stay warm.
     mallopt(M_MMAP_MAX, 0);
-    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    mallopt(M_TRIM_THRESHOLD, -1);   // -1: never trim (a 1 GiB threshold still trimmed between training steps)
     mallopt(M_TOP_PAD, 64 << 20);
 }
 

@@ -1,7 +1,10 @@
 // ltm_model.cpp: wiring of embedding, encoder and decoder, and the loss.
 #include "ltm/nn/ltm_model.h"
 
+#include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
+
+#include <optional>
 
 namespace ltm {
 
@@ -67,9 +70,23 @@ torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const Scen
 torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
                                                int64_t chunk) {
     torch::NoGradGuard no_grad;
+    std::optional<FusedDecoder> fused;
+    if (fused_inference && cfg.decoder.type == "attention" && query_points.is_cpu() && latents.features.is_cpu()) {
+        fused.emplace(*decoder);   // rebuilt per call: ~0.1 M floats, negligible next to decoding
+        fused->prepare(latents.features);
+    }
     std::vector<torch::Tensor> parts;
-    for (int64_t s = 0; s < query_points.size(0); s += chunk)
-        parts.push_back(torch::expm1(decode(query_points.slice(0, s, std::min(query_points.size(0), s + chunk)), latents)));
+    for (int64_t s = 0; s < query_points.size(0); s += chunk) {
+        const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
+        if (!fused) {
+            parts.push_back(torch::expm1(decode(qp, latents)));
+            continue;
+        }
+        const auto q = normalize_query_points(qp, latents.center);
+        const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
+        const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
+        parts.push_back(torch::expm1(fused->forward(q, latents.anchors, idx)));
+    }
     return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
 }
 

@@ -2,8 +2,6 @@
 // output does not depend on the thread count).
 #include "ltm/render/bake.h"
 
-#include <atomic>
-#include <chrono>
 #include <cstdlib>
 
 #include "ltm/core/error.h"
@@ -51,7 +49,6 @@ BakedPoints bake_points(const PathTracer &pt, const PointSet &query, int64_t beg
     const int nb = s.bin_resolution * s.bin_resolution;
     if (s.bins) out.bins.resize(size_t(n) * size_t(nb));
     const uint64_t rays0 = pt.accel().rays_traced();
-    const auto t0 = std::chrono::steady_clock::now();
     Progress progress("bake", uint64_t(n), "points");
     parallel_for(0, n, 16, [&](int64_t i0, int64_t i1) {
         for (int64_t i = i0; i < i1; ++i) {
@@ -69,7 +66,6 @@ BakedPoints bake_points(const PathTracer &pt, const PointSet &query, int64_t beg
     });
     out.seconds = progress.finish();
     out.rays = pt.accel().rays_traced() - rays0;
-    (void)t0;
     return out;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
@@ -191,6 +192,7 @@ void Trainer::run(bool resume, int64_t stop_at) {
     const int64_t end = stop_at >= 0 ? std::min<int64_t>(stop_at, m_cfg.steps) : m_cfg.steps;
     auto t_last = std::chrono::steady_clock::now();
     int64_t steps_since = 0;
+    double loss_since = 0;   // mean over the logged interval: one step's loss is one scene's
     auto save = [&](const std::string &path) {
         save_checkpoint(path, m_model, *m_opt, {m_step, m_best_val, model_json, train_json});
     };
@@ -198,15 +200,18 @@ void Trainer::run(bool resume, int64_t stop_at) {
         const TrainStepLog s = train_step();
         m_history.push_back(s);
         ++steps_since;
+        if (!s.skipped) loss_since += s.loss;
         if (m_step % m_cfg.log_every == 0 || m_step == end) {
             const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_last).count();
-            OrderedJson j = {{"step", s.step}, {"loss", s.loss}, {"lr", s.lr}, {"grad_norm", s.grad_norm},
+            const double mean_loss = loss_since / double(steps_since);
+            OrderedJson j = {{"step", s.step}, {"loss", mean_loss}, {"lr", s.lr}, {"grad_norm", s.grad_norm},
                              {"skipped", s.skipped}, {"steps_per_s", double(steps_since) / dt},
                              {"queries_per_s", double(steps_since * m_cfg.batch_queries) / dt}};
             log << j.dump() << "\n" << std::flush;
-            log_info("step ", m_step, "/", m_cfg.steps, " loss ", s.loss, " lr ", s.lr, " ", double(steps_since) / dt, " steps/s");
+            log_info("step ", m_step, "/", m_cfg.steps, " loss ", mean_loss, " lr ", s.lr, " ", double(steps_since) / dt, " steps/s");
             t_last = std::chrono::steady_clock::now();
             steps_since = 0;
+            loss_since = 0;
         }
         if (m_step % m_cfg.val_every == 0 || m_step == m_cfg.steps) {
             const double v = validate();

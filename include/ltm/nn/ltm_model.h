@@ -43,16 +43,20 @@ struct LtmModelImpl : torch::nn::Module {
     //   the same with precomputed anchor neighbours idx [N, κ]
     torch::Tensor decode_with_neighbors(const torch::Tensor &query_points, const SceneLatents &latents,
                                         const torch::Tensor &idx);
-    /// Inference in chunks (no autograd): E⁺ = expm1(z).  query [N, 9] -> [N, 3]. Small chunks keep the
-    /// [chunk, κ, D] temporaries in cache: 1024 ran 1.7× faster than 16384 (docs/performance.md).
+    /// Inference in chunks (no autograd): E⁺ = expm1(z).  query [N, 9] -> [N, 3].
+    /// On CPU the "attention" decoder runs as a FusedDecoder, built from the current weights at every
+    /// call (a few ms, so it never sees stale weights) unless fused_inference is false. The fused
+    /// kernel tiles internally, so large chunks cost nothing and avoid per-chunk thread start-up;
+    /// the libtorch path prefers ~1024 (its [chunk, κ, D] temporaries then stay in cache).
     torch::Tensor predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
-                                     int64_t chunk = 1024);
+                                     int64_t chunk = 16384);
     int64_t n_parameters() const;
 
     ModelConfig cfg;
     NNEmbedding embedding{nullptr};
     PTv3 encoder{nullptr};
     QueryDecoder decoder{nullptr};
+    bool fused_inference = true;   ///< predict_irradiance on CPU uses FusedDecoder (false: libtorch modules)
 };
 TORCH_MODULE(LtmModel);
 
