@@ -46,9 +46,3 @@ static void BM_EmbreeBuild(benchmark::State &state) {
 }
 BENCHMARK(BM_EmbreeBuild)->Unit(benchmark::kMillisecond);
 
-int main(int argc, char **argv) {
-    configure_process();
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    return 0;
-}

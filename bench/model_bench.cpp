@@ -27,6 +27,23 @@ torch::Tensor points(int64_t n, SampleStream stream, bool scene) {
 }
 ModelConfig preset(const std::string &name) { return ModelConfig::from_file(std::string(LTM_SOURCE_DIR) + "/configs/model/" + name + ".json"); }
 double mb(size_t bytes) { return double(bytes) / double(1 << 20); }
+
+// A `cpu` model (random weights, eval mode) with one encoded scene and 65536 normalised queries.
+struct EncodedScene {
+    LtmModel model{preset("cpu")};
+    torch::Tensor query_points;   // [65536, 9] raw
+    torch::Tensor query;          // [65536, 9] normalised
+    SceneLatents latents;
+    EncodedScene() {
+        torch::manual_seed(0);
+        model->eval();
+        torch::NoGradGuard ng;
+        const auto sp = points(8192, SampleStream::scene_points, true);
+        query_points = points(65536, SampleStream::query_points, false);
+        latents = model->encode(sp, model->scene_geometry(sp));
+        query = normalize_query_points(query_points, latents.center);
+    }
+};
 }  // namespace
 
 // 1024² float GEMM: the machine's attainable FLOP rate in this run.
@@ -62,12 +79,11 @@ BENCHMARK(BM_SceneGeometry)->Arg(8192)->Arg(20000)->Unit(benchmark::kMillisecond
 
 // Decoder throughput (queries/s) incl. the kNN among anchors, 65536 queries per call.
 static void BM_DecodeQueries(benchmark::State &state) {
-    torch::manual_seed(0);
-    LtmModel model(preset("cpu"));
-    model->eval();
+    EncodedScene e;
     torch::NoGradGuard ng;
-    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
-    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
+    LtmModel &model = e.model;
+    const auto &qp = e.query_points;
+    const SceneLatents &lat = e.latents;
     for (auto _ : state) benchmark::DoNotOptimize(model->predict_irradiance(qp, lat, state.range(0)).data_ptr());
     state.SetItemsProcessed(state.iterations() * 65536);
 }
@@ -76,13 +92,12 @@ BENCHMARK(BM_DecodeQueries)->Arg(1024)->Arg(4096)->Arg(16384)->Unit(benchmark::k
 
 // The same with the libtorch modules instead of FusedDecoder (the path before the fused kernel).
 static void BM_DecodeQueriesLibtorch(benchmark::State &state) {
-    torch::manual_seed(0);
-    LtmModel model(preset("cpu"));
-    model->eval();
-    model->fused_inference = false;
+    EncodedScene e;
     torch::NoGradGuard ng;
-    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
-    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
+    LtmModel &model = e.model;
+    model->fused_inference = false;
+    const auto &qp = e.query_points;
+    const SceneLatents &lat = e.latents;
     for (auto _ : state) benchmark::DoNotOptimize(model->predict_irradiance(qp, lat, state.range(0)).data_ptr());
     state.SetItemsProcessed(state.iterations() * 65536);
 }
@@ -91,13 +106,11 @@ BENCHMARK(BM_DecodeQueriesLibtorch)->Arg(1024)->Unit(benchmark::kMillisecond)->U
 // Decoder alone (kNN precomputed), 65536 queries: arg 0 = QueryDecoder::forward in chunks of 1024,
 // arg 1 = FusedDecoder::forward in one call (its build + prepare excluded, reported as build_ms).
 static void BM_DecodeKernel(benchmark::State &state) {
-    torch::manual_seed(0);
-    LtmModel model(preset("cpu"));
-    model->eval();
+    EncodedScene e;
     torch::NoGradGuard ng;
-    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
-    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
-    const auto q = normalize_query_points(qp, lat.center);
+    LtmModel &model = e.model;
+    const SceneLatents &lat = e.latents;
+    const auto &q = e.query;
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), lat.anchors.contiguous(), model->cfg.decoder.n_neighbors);
     const auto t0 = std::chrono::steady_clock::now();
     FusedDecoder fused(*model->decoder);
@@ -118,13 +131,11 @@ BENCHMARK(BM_DecodeKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRe
 
 // kNN among anchors alone, 65536 queries in chunks of 1024 (as predict_irradiance).
 static void BM_DecodeKnn(benchmark::State &state) {
-    torch::manual_seed(0);
-    LtmModel model(preset("cpu"));
-    model->eval();
+    EncodedScene e;
     torch::NoGradGuard ng;
-    const auto sp = points(8192, SampleStream::scene_points, true), qp = points(65536, SampleStream::query_points, false);
-    const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
-    const auto q = normalize_query_points(qp, lat.center);
+    LtmModel &model = e.model;
+    const SceneLatents &lat = e.latents;
+    const auto &q = e.query;
     for (auto _ : state)
         for (int64_t s = 0; s < q.size(0); s += 1024)
             benchmark::DoNotOptimize(knn(q.slice(0, s, s + 1024).slice(1, 0, 3).contiguous(), lat.anchors.contiguous(),
@@ -159,10 +170,3 @@ static void BM_TrainStep(benchmark::State &state) {
 }
 BENCHMARK(BM_TrainStep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
-int main(int argc, char **argv) {
-    configure_process();
-    set_log_level(LogLevel::quiet);
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    return 0;
-}

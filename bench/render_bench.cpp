@@ -76,10 +76,3 @@ static void BM_Image512At64spp(benchmark::State &state) {
 }
 BENCHMARK(BM_Image512At64spp)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
-int main(int argc, char **argv) {
-    configure_process();
-    set_log_level(LogLevel::quiet);
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    return 0;
-}
