@@ -108,3 +108,36 @@ TEST(Cli, RenderWritesExrAovsAndPng) {
     EXPECT_EQ(h, 16);
     EXPECT_EQ(read_image(dir.path("cb.png")).width, 24);
 }
+
+#ifdef LTM_WITH_TORCH
+// dataset build → train → resume → export → info, through the CLI, with the tiny model.
+TEST(Cli, DatasetTrainExportInfoSmoke) {
+    test::TempDir dir;
+    const std::string data = dir.path("data"), run_dir = dir.path("run"), weights = dir.path("w.safetensors");
+    const std::string preset = test::source_path("configs/data/ci.json"), model = test::source_path("configs/model/tiny.json");
+    auto r = run({"dataset", "build", "--config", preset, "--seed-range", "5:8", "--scenes", "2", "-o", data, "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(read_file(data + "/manifest.json").find("scene-000006.safetensors"), std::string::npos);
+    r = run({"train", "--model", model, "--data", data, "--out", run_dir, "--steps", "2", "--set", "batch_queries=256",
+             "--set", "val_every=2", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run({"train", "--model", model, "--data", data, "--out", run_dir, "--steps", "3", "--set", "batch_queries=256",
+             "--set", "val_every=2", "--resume", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(read_file(run_dir + "/log.jsonl").find("\"step\":2"), std::string::npos);
+    r = run({"export", run_dir + "/last.ltmckpt", "-o", weights, "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run({"info", weights});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("ltm-weights"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"decoder\""), std::string::npos) << r.out;   // the embedded config
+    EXPECT_NE(r.out.find("step  3"), std::string::npos) << r.out;
+    r = run({"info", run_dir + "/last.ltmckpt"});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("step       3"), std::string::npos) << r.out;
+    // A model whose M does not match the records is refused with the preset named.
+    r = run({"train", "--model", test::source_path("configs/model/cpu.json"), "--data", data, "--out", dir.path("run2")});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("dataset preset 'ci'"), std::string::npos) << r.err;
+}
+#endif
