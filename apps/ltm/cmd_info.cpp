@@ -19,7 +19,10 @@ void describe_safetensors(const std::string &path) {
     const SafetensorsFile f = read_safetensors(path);
     int64_t n_values = 0;
     for (const auto &[name, t] : f.tensors) n_values += int64_t(t.numel());
-    const auto fmt = f.metadata.count("format") ? f.metadata.at("format") : (f.metadata.count("ltm") ? "ltm-record" : "?");
+    std::string fmt = "unknown";
+    if (f.metadata.count("format")) fmt = f.metadata.at("format");                 // weights
+    else if (f.metadata.count("ltm")) fmt = "ltm-record";                          // dataset record
+    else if (f.metadata.count("settings")) fmt = "ltm-bake (ground-truth irradiance)";   // ltm bake
     std::cout << "file       " << path << " (safetensors, " << fmt << ")\n"
               << "tensors    " << f.tensors.size() << " with " << n_values << " values\n";
     if (fmt == "ltm-weights") {
