@@ -26,6 +26,11 @@ const std::string &dataset_dir() {
         build_dataset(opt);
         return d;
     }();
+    // Removed when the test program exits (the tests of this file share it).
+    static const struct Cleanup {
+        std::string path;
+        ~Cleanup() { std::filesystem::remove_all(path); }
+    } cleanup{dir};
     return dir;
 }
 TrainConfig small_train(int steps) {
