@@ -76,9 +76,10 @@ TEST(Trainer, ResumeRepeatsTheUninterruptedLossSequence) {
 TEST(Trainer, TinyModelOverfitsOneScene) {
     test::TempDir dir;
     const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
-    TrainConfig t = small_train(600);
+    TrainConfig t = small_train(700);
     t.val_fraction = 0.f;
-    t.lr = 3e-3f;
+    t.lr = 2e-3f;
+    t.loss_eps = 0.05f;   // ε = 0.01 lets a few dark points spike the loss 10× for a while; this test is about capacity
     t.warmup_steps = 10;
     // A one-record dataset whose 256 query points are all in every batch: pure memorisation.
     const std::string one = dir.path("one");
@@ -98,5 +99,11 @@ TEST(Trainer, TinyModelOverfitsOneScene) {
     for (int i = 0; i < 10; ++i) first += h[size_t(i)].loss / 10, last += h[h.size() - 1 - size_t(i)].loss / 10;
     EXPECT_LT(last, first / 10) << "first " << first << " last " << last;
     EXPECT_LT(secs, 60.0);
-    std::cout << "overfit: loss " << first << " -> " << last << " in " << secs << " s\n";
+    std::cout << "overfit: loss " << first << " -> " << last << " in " << secs << " s; per 50 steps:";
+    for (size_t i = 0; i + 50 <= h.size(); i += 50) {
+        double m = 0;
+        for (size_t j = i; j < i + 50; ++j) m += h[j].loss / 50;
+        std::cout << " " << m;
+    }
+    std::cout << "\n";
 }
