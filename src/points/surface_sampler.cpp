@@ -47,11 +47,9 @@ SurfaceSample make_sample(const Scene &scene, TriangleRef ref, Vec2f u) {
     const Vec2f b = sample_uniform_triangle(u);
     const float b2 = 1.f - b.x - b.y;
     SurfaceSample s;
-    s.p = mesh.vertex(ref.triangle, 0) * b.x + mesh.vertex(ref.triangle, 1) * b.y +
-          mesh.vertex(ref.triangle, 2) * b2;
+    s.p = mesh.position_at(ref.triangle, b.x, b.y, b2);
     s.n = normalize(mesh.cross_normal(ref.triangle));
-    const Vec2f t0 = mesh.uv(ref.triangle, 0), t1 = mesh.uv(ref.triangle, 1), t2 = mesh.uv(ref.triangle, 2);
-    const Vec2f uv{t0.x * b.x + t1.x * b.y + t2.x * b2, t0.y * b.x + t1.y * b.y + t2.y * b2};
+    const Vec2f uv = mesh.uv_at(ref.triangle, b.x, b.y, b2);
     s.albedo = mat.albedo.eval(uv);
     s.emission = mat.emission.eval(uv);
     s.mesh = ref.mesh;

@@ -46,10 +46,9 @@ LightSample LightSampler::sample(float u0, Vec2f u12) const {
     const TriangleMesh &mesh = m_scene.meshes[tri.mesh];
     const Vec2f b = sample_uniform_triangle(u12);
     const float b2 = 1.f - b.x - b.y;
-    s.p = mesh.vertex(tri.triangle, 0) * b.x + mesh.vertex(tri.triangle, 1) * b.y + mesh.vertex(tri.triangle, 2) * b2;
+    s.p = mesh.position_at(tri.triangle, b.x, b.y, b2);
     s.n = normalize(mesh.cross_normal(tri.triangle));
-    const Vec2f t0 = mesh.uv(tri.triangle, 0), t1 = mesh.uv(tri.triangle, 1), t2 = mesh.uv(tri.triangle, 2);
-    const Vec2f uv{t0.x * b.x + t1.x * b.y + t2.x * b2, t0.y * b.x + t1.y * b.y + t2.y * b2};
+    const Vec2f uv = mesh.uv_at(tri.triangle, b.x, b.y, b2);
     s.radiance = m_scene.materials[size_t(mesh.material)].emission.eval(uv);
     s.pdf_area = m_pmf[k] / tri.area;
     return s;
