@@ -18,9 +18,10 @@ namespace ltm::cli {
 std::vector<Command> commands() {
     // Built afresh per call: each Command owns its parsed-argument state.
     std::vector<Command> table = {make_generate_command(), make_sample_command(), make_preview_command(),
-                                  make_bake_command(), make_render_command(), make_info_command()};
+                                  make_bake_command(), make_render_command(), make_info_command(),
+                                  make_edit_command()};
 #ifdef LTM_WITH_TORCH
-    for (auto make : {make_dataset_command, make_train_command, make_export_command}) table.push_back(make());
+    for (auto make : {make_dataset_command, make_train_command, make_export_command, make_eval_command}) table.push_back(make());
 #endif
     return table;
 }
@@ -96,6 +97,18 @@ int run_cli(const std::vector<std::string> &args) {
         }
     }
     return 2;
+}
+
+std::pair<uint64_t, uint64_t> parse_seed_range(const std::string &s, const std::string &option) {
+    const size_t colon = s.find(':');
+    try {
+        if (colon == std::string::npos) throw std::invalid_argument("");
+        const long long a = std::stoll(s.substr(0, colon)), b = std::stoll(s.substr(colon + 1));
+        if (a < 0 || b <= a) throw std::invalid_argument("");
+        return {uint64_t(a), uint64_t(b)};
+    } catch (const std::exception &) {
+        LTM_THROW(option, " ", s, ": expected A:B with 0 <= A < B (seeds A .. B-1)");
+    }
 }
 
 }  // namespace ltm::cli

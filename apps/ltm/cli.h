@@ -1,8 +1,11 @@
 // cli.h: the ltm command line as a library: run_cli() is what main() calls and what tests call.
 #pragma once
 
+#include <cstdint>
+
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace CLI {
@@ -38,12 +41,28 @@ Command make_preview_command();
 Command make_info_command();
 Command make_render_command();
 Command make_bake_command();
+Command make_edit_command();
 Command make_dataset_command();   // the three below need libtorch (LTM_WITH_TORCH)
 Command make_train_command();
 Command make_export_command();
+Command make_eval_command();
 
 /// The scene's camera by name, else its first, else an automatic one; resized if width/height > 0.
 Camera choose_camera(const Scene &scene, const std::string &name, int width, int height, const std::string &where);
+
+/// `ltm render --method neural`: the arguments it needs (cmd_render_neural.cpp, libtorch builds).
+struct NeuralRenderArgs {
+    std::string scene, camera, model, prefix;
+    int width = 0, height = 0, direct_spp = 16;
+    float exposure = 1.f;
+    bool exclude_enclosed = true;
+};
+void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
+
+/// Writes <prefix>.irradiance.png: E⁺ alone, scaled by 1/(99th-percentile luminance) as in the
+/// metrics (eval/metrics.h), the way the paper's figures show irradiance.
+/// "A:B" → seeds A .. B-1 (0 <= A < B); `option` names the flag in the error.
+std::pair<uint64_t, uint64_t> parse_seed_range(const std::string &s, const std::string &option);
 
 /// Parses and runs `args` (without the program name). Exit codes: 0 ok, 1 error (message
 /// "ltm <cmd>: error: <what>" on stderr), 2 usage error.

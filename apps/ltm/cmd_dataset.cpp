@@ -18,17 +18,6 @@ struct DatasetArgs {
     bool test = false;
 };
 
-std::pair<uint64_t, uint64_t> parse_seed_range(const std::string &s) {
-    const size_t colon = s.find(':');
-    try {
-        if (colon == std::string::npos) throw std::invalid_argument("");
-        const long long a = std::stoll(s.substr(0, colon)), b = std::stoll(s.substr(colon + 1));
-        if (a < 0 || b <= a) throw std::invalid_argument("");
-        return {uint64_t(a), uint64_t(b)};
-    } catch (const std::exception &) {
-        LTM_THROW("--seed-range ", s, ": expected A:B with 0 <= A < B (seeds A .. B-1)");
-    }
-}
 }  // namespace
 
 Command make_dataset_command() {
@@ -48,7 +37,7 @@ Command make_dataset_command() {
     c.run = [a](const CommonOptions &) {
         BuildOptions opt;
         opt.preset = DataPreset::from_file(a->config);
-        const auto [lo, hi] = parse_seed_range(a->seed_range);
+        const auto [lo, hi] = parse_seed_range(a->seed_range, "--seed-range");
         uint64_t end = hi;
         if (a->scenes >= 0) {
             if (a->scenes == 0) LTM_THROW("--scenes 0: must be > 0");

@@ -1,4 +1,5 @@
-// cmd_export.cpp: `ltm export runs/NAME/best.ltmckpt -o models/ltm-cpu.safetensors`.
+// cmd_export.cpp: `ltm export runs/NAME/best.ltmckpt -o models/ltm-cpu.safetensors [--half]`;
+// also converts a weights file (e.g. F32 → F16 for shipping).
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -9,23 +10,46 @@
 
 namespace ltm::cli {
 
+namespace {
+struct ExportArgs {
+    std::string input, output, note;
+    bool half = false;
+};
+
+bool ends_with(const std::string &s, const std::string &suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+}  // namespace
+
 Command make_export_command() {
-    auto a = std::make_shared<std::pair<std::string, std::string>>();
+    auto a = std::make_shared<ExportArgs>();
     Command c;
     c.name = "export";
-    c.help = "Export a training checkpoint's weights to safetensors (config in the metadata)";
+    c.help = "Export a checkpoint's (or convert a weights file's) weights to safetensors, config in the metadata";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("checkpoint", a->first, "Checkpoint (.ltmckpt)")->required();
-        sub.add_option("-o,--output", a->second, "Weights file (.safetensors)")->required();
+        sub.add_option("input", a->input, "Checkpoint (.ltmckpt) or weights (.safetensors)")->required();
+        sub.add_option("-o,--output", a->output, "Weights file (.safetensors)")->required();
+        sub.add_flag("--half", a->half, "Store F16 (half the size; inference converts back to F32)");
+        sub.add_option("--note", a->note, "Free text stored in the metadata ('note'), e.g. provenance");
     };
     c.run = [a](const CommonOptions &) {
-        const TrainState st = read_checkpoint_state(a->first);
-        const ModelConfig mc = ModelConfig::from_json(parse_json(st.model_config, a->first), a->first);
-        LtmModel model(mc);
-        torch::optim::AdamW opt(model->parameters());
-        load_checkpoint(a->first, model, opt);
-        save_weights(a->second, model, {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}});
-        log_info("exported ", model->n_parameters(), " parameters (step ", st.step, ") -> ", a->second);
+        std::map<std::string, std::string> meta;
+        LtmModel model{nullptr};
+        if (ends_with(a->input, ".safetensors")) {
+            model = load_weights(a->input, &meta);
+            for (const char *k : {"format", "format_version", "arch_version", "config"}) meta.erase(k);
+        } else {
+            const TrainState st = read_checkpoint_state(a->input);
+            const ModelConfig mc = ModelConfig::from_json(parse_json(st.model_config, a->input), a->input);
+            model = LtmModel(mc);
+            torch::optim::AdamW opt(model->parameters());
+            load_checkpoint(a->input, model, opt);
+            meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
+        }
+        if (!a->note.empty()) meta["note"] = a->note;
+        save_weights(a->output, model, meta, a->half);
+        log_info("exported ", model->n_parameters(), " parameters", meta.count("step") ? " (step " + meta["step"] + ")" : "",
+                 a->half ? " as F16" : "", " -> ", a->output);
     };
     return c;
 }

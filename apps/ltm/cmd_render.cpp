@@ -1,4 +1,5 @@
-// cmd_render.cpp: `ltm render <scene> --method pathtrace --spp N -o out` → out.exr + out.png.
+// cmd_render.cpp: `ltm render <scene> --method pathtrace|neural -o out` → out.exr, out.png,
+// out.irradiance.png (+ out.timings.json for neural).
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -6,6 +7,7 @@
 #include "cli.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
+#include "ltm/eval/metrics.h"
 #include "ltm/render/image_renderer.h"
 #include "ltm/scene/scene_io.h"
 
@@ -13,8 +15,8 @@ namespace ltm::cli {
 
 namespace {
 struct RenderArgs {
-    std::string scene, output, camera, method = "pathtrace";
-    int spp = 64, max_depth = 5, width = 0, height = 0;
+    std::string scene, output, camera, method = "pathtrace", model;
+    int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16;
     float exposure = 1.f;
 };
 
@@ -29,12 +31,16 @@ Command make_render_command() {
     auto a = std::make_shared<RenderArgs>();
     Command c;
     c.name = "render";
-    c.help = "Render an image: path-traced reference with AOVs (EXR + tone-mapped PNG)";
+    c.help = "Render an image: path-traced reference or the neural model (EXR with AOVs + PNGs)";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
         sub.add_option("scene", a->scene, "Scene (json, obj or builtin:<name>)")->required();
-        sub.add_option("--method", a->method, "pathtrace (neural arrives with the model)")->capture_default_str();
-        sub.add_option("--spp", a->spp, "Samples per pixel")->capture_default_str();
-        sub.add_option("--max-depth", a->max_depth, "Scattering events after the first hit")->capture_default_str();
+        sub.add_option("--method", a->method, "pathtrace | neural")->capture_default_str()->check(
+            CLI::IsMember({"pathtrace", "neural"}));
+        sub.add_option("--model", a->model, "Weights for --method neural (models/ltm-cpu.safetensors)");
+        sub.add_option("--spp", a->spp, "Samples per pixel (pathtrace)")->capture_default_str();
+        sub.add_option("--direct-spp", a->direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
+            ->capture_default_str();
+        sub.add_option("--max-depth", a->max_depth, "Scattering events after the first hit (pathtrace)")->capture_default_str();
         sub.add_option("--camera", a->camera, "Camera name (default: the scene's first, else automatic)");
         sub.add_option("--width", a->width, "Width (default: the camera's)")->check(CLI::Range(1, 16384));
         sub.add_option("--height", a->height, "Height (default: the camera's)")->check(CLI::Range(1, 16384));
@@ -42,11 +48,22 @@ Command make_render_command() {
         sub.add_option("-o,--output", a->output, "Output prefix: writes <prefix>.exr and <prefix>.png")->required();
     };
     c.run = [a](const CommonOptions &common) {
-        if (a->method != "pathtrace")
-            LTM_THROW("--method ", a->method, ": not available in this build (only 'pathtrace'; 'neural' needs the model)");
+        if (!(a->exposure > 0.f)) LTM_THROW("--exposure ", a->exposure, ": must be > 0");
+        const std::string prefix = strip_image_extension(a->output);
+        if (a->method == "neural") {
+#if LTM_WITH_TORCH
+            if (a->model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
+            if (a->direct_spp <= 0) LTM_THROW("--direct-spp ", a->direct_spp, ": must be > 0");
+            run_neural_render({a->scene, a->camera, a->model, prefix, a->width, a->height, a->direct_spp, a->exposure, true},
+                              common);
+            return;
+#else
+            LTM_THROW("--method neural: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
+#endif
+        }
+        if (!a->model.empty()) LTM_THROW("--model is only used with --method neural");
         if (a->spp <= 0) LTM_THROW("--spp ", a->spp, ": must be > 0");
         if (a->max_depth < 1) LTM_THROW("--max-depth ", a->max_depth, ": must be >= 1");
-        if (!(a->exposure > 0.f)) LTM_THROW("--exposure ", a->exposure, ": must be > 0");
         const Scene scene = load_scene(a->scene);
         const Camera cam = choose_camera(scene, a->camera, a->width, a->height, a->scene);
         const EmbreeAccel accel(scene);
@@ -56,10 +73,11 @@ Command make_render_command() {
         cfg.max_depth = a->max_depth;
         const PathTracer pt(accel, cfg);
         const RenderedImage img = render_pathtraced(pt, cam, a->spp);
-        const std::string prefix = strip_image_extension(a->output);
         write_rendered_image(img, prefix, a->exposure);
+        write_png(prefix + ".irradiance.png", img.irradiance, tonemap_scale(img.irradiance));
         log_info("rendered ", cam.width, "x", cam.height, " at ", a->spp, " spp in ", format_duration(img.seconds), " (",
-                 format_count(double(accel.rays_traced()) / img.seconds), " rays/s) -> ", prefix, ".exr, ", prefix, ".png");
+                 format_count(double(accel.rays_traced()) / img.seconds), " rays/s) -> ", prefix, ".exr, ", prefix,
+                 ".png, ", prefix, ".irradiance.png");
     };
     return c;
 }

@@ -12,7 +12,7 @@ namespace ltm::cli {
 
 namespace {
 struct TrainArgs {
-    std::string model, data, out, config, device = "cpu";
+    std::string model, data, out, config, init, device = "cpu";
     std::vector<std::string> overrides;
     bool resume = false;
     int steps = -1;
@@ -32,6 +32,7 @@ Command make_train_command() {
         sub.add_option("--set", a->overrides, "Override a training key, e.g. --set lr=5e-4");
         sub.add_option("--steps", a->steps, "Shorthand for --set steps=N");
         sub.add_flag("--resume", a->resume, "Continue the run in --out from last.ltmckpt");
+        sub.add_option("--init", a->init, "Start from these weights (.safetensors; fresh optimizer), e.g. to fine-tune");
         sub.add_option("--device", a->device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
     };
     c.run = [a](const CommonOptions &common) {
@@ -45,6 +46,11 @@ Command make_train_command() {
             LTM_THROW("--device cuda: this libtorch has no CUDA device (", torch::cuda::device_count(), " found)");
         Trainer trainer(mc, tc, a->data, a->out, a->device == "cuda" ? torch::Device(torch::kCUDA) : torch::Device(torch::kCPU));
         log_info("model '", mc.name, "': ", trainer.model()->n_parameters(), " parameters");
+        if (!a->init.empty()) {
+            if (a->resume) LTM_THROW("--init and --resume exclude each other (a resumed run has its own weights)");
+            trainer.init_weights(a->init);
+            log_info("initialised from ", a->init);
+        }
         trainer.run(a->resume);
     };
     return c;

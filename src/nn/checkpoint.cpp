@@ -24,12 +24,16 @@ void atomic_rename(const std::string &tmp, const std::string &path) {
 }
 }  // namespace
 
-void save_weights(const std::string &path, LtmModel &model, const std::map<std::string, std::string> &extra) {
+void save_weights(const std::string &path, LtmModel &model, const std::map<std::string, std::string> &extra, bool half) {
     SafetensorsFile f;
     for (const auto &[name, t] : state_dict(model)) {
-        const auto c = t.detach().to(torch::kCPU, torch::kFloat32).contiguous();
-        std::vector<int64_t> shape(c.sizes().begin(), c.sizes().end());
-        f.tensors[name] = make_f32_tensor(shape, c.data_ptr<float>());
+        const auto c = t.detach().to(torch::kCPU, half ? torch::kHalf : torch::kFloat32).contiguous();
+        StTensor st;
+        st.dtype = half ? "F16" : "F32";
+        st.shape.assign(c.sizes().begin(), c.sizes().end());
+        const char *bytes = static_cast<const char *>(c.data_ptr());
+        st.data.assign(bytes, bytes + c.numel() * int64_t(c.element_size()));
+        f.tensors[name] = std::move(st);
     }
     f.metadata = extra;
     f.metadata["format"] = "ltm-weights";
@@ -69,8 +73,11 @@ LtmModel load_weights(const std::string &path, std::map<std::string, std::string
     LtmModel model(cfg);
     std::map<std::string, torch::Tensor> tensors;
     for (const auto &[name, t] : f.tensors) {
-        std::vector<float> v = t.as_f32(path);
-        tensors[name] = torch::from_blob(v.data(), t.shape, torch::kFloat32).clone();
+        // F32 as trained, or F16 (`ltm export --half`, for shipping): computation is always F32.
+        if (t.dtype != "F32" && t.dtype != "F16")
+            LTM_THROW(path, ": tensor '", name, "' has dtype ", t.dtype, " (weights are F32 or F16)");
+        const auto dtype = t.dtype == "F16" ? torch::kHalf : torch::kFloat32;
+        tensors[name] = torch::from_blob(const_cast<char *>(t.data.data()), t.shape, dtype).to(torch::kFloat32).clone();
     }
     load_state(model, tensors, path);
     if (metadata) *metadata = f.metadata;

@@ -1,6 +1,8 @@
 // ltm_model.cpp: wiring of embedding, encoder and decoder, and the loss.
 #include "ltm/nn/ltm_model.h"
 
+#include <chrono>
+
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
 
@@ -68,8 +70,12 @@ torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const Scen
 }
 
 torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
-                                               int64_t chunk) {
+                                               int64_t chunk, PredictTimings *timings) {
     torch::NoGradGuard no_grad;
+    using clock = std::chrono::steady_clock;
+    auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
+    PredictTimings local;
+    auto t = clock::now();
     std::optional<FusedDecoder> fused;
     if (fused_inference && cfg.decoder.type == "attention" && query_points.is_cpu() && latents.features.is_cpu()) {
         fused.emplace(*decoder);   // rebuilt per call: ~0.1 M floats, negligible next to decoding
@@ -84,10 +90,17 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         }
         const auto q = normalize_query_points(qp, latents.center);
         const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
+        local.decode += since(t);
+        t = clock::now();
         const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
+        local.knn += since(t);
+        t = clock::now();
         parts.push_back(torch::expm1(fused->forward(q, latents.anchors, idx)));
     }
-    return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
+    auto out = parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
+    local.decode += since(t);
+    if (timings) timings->knn += local.knn, timings->decode += local.decode;
+    return out;
 }
 
 int64_t LtmModelImpl::n_parameters() const {

@@ -97,7 +97,8 @@ Vec3f PathTracer::reflected_radiance(const SurfaceInteraction &si0, Vec3f wo_wor
     return L;
 }
 
-IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key, int s, int n_samples) const {
+IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key, int s, int n_samples,
+                                                 bool with_indirect) const {
     Pcg32 rng(key);
     IrradianceEstimate e;
     const Frame frame(n);
@@ -113,7 +114,7 @@ IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key,
                                                              hit->t * hit->t, -dot(hit->n, wi));
             e.direct = le * (k_pi * power_heuristic(pdf_b, pdf_l));
         }
-        e.indirect = reflected_radiance(y, -wi, m_cfg.max_depth, rng) * k_pi;
+        if (with_indirect) e.indirect = reflected_radiance(y, -wi, m_cfg.max_depth, rng) * k_pi;
     }
     // Light sample: Le·cosθ / pdf_l, MIS-weighted against the cosine strategy.
     if (!m_lights.empty()) {
@@ -133,11 +134,12 @@ IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key,
     return e;
 }
 
-IrradianceEstimate PathTracer::irradiance(Vec3f p, Vec3f n, uint64_t point_index, int n_samples) const {
+IrradianceEstimate PathTracer::irradiance(Vec3f p, Vec3f n, uint64_t point_index, int n_samples,
+                                          bool with_indirect) const {
     if (n_samples <= 0) LTM_THROW("path tracer: samples per point must be > 0, got ", n_samples);
     IrradianceEstimate sum;
     for (int s = 0; s < n_samples; ++s) {
-        const IrradianceEstimate e = irradiance_sample(p, n, stream_key(point_index, uint64_t(s)), s, n_samples);
+        const IrradianceEstimate e = irradiance_sample(p, n, stream_key(point_index, uint64_t(s)), s, n_samples, with_indirect);
         sum.direct += e.direct;
         sum.indirect += e.indirect;
     }

@@ -83,6 +83,16 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
     create_directories(out_dir);
 }
 
+void Trainer::init_weights(const std::string &path) {
+    LtmModel w = load_weights(path);
+    if (w->cfg.to_json().dump() != m_model_cfg.to_json().dump())
+        LTM_THROW(path, ": weights of model config '", w->cfg.name, "' do not match the model config '", m_model_cfg.name, "'");
+    std::map<std::string, torch::Tensor> tensors;
+    for (const auto &p : w->named_parameters()) tensors[p.key()] = p.value();
+    for (const auto &b : w->named_buffers()) tensors[b.key()] = b.value();
+    load_state(m_model, tensors, path);   // copy_ moves them to the training device
+}
+
 Trainer::CachedScene &Trainer::scene(size_t index) {
     const std::string &path = index < m_train_paths.size() ? m_train_paths[index] : m_val_paths[index - m_train_paths.size()];
     auto &slot = m_cache[path];
@@ -152,14 +162,18 @@ double Trainer::validate() {
     if (m_val_paths.empty()) return NAN;
     torch::NoGradGuard no_grad;
     m_model->eval();
-    double sum = 0;
+    double sum = 0, sum_mse = 0;
     for (size_t i = 0; i < m_val_paths.size(); ++i) {
         CachedScene &sc = scene(m_train_paths.size() + i);
         const int64_t nq = std::min<int64_t>(m_cfg.val_queries, sc.query_points.size(0));
         const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry);
         const auto z = m_model->decode(sc.query_points.slice(0, 0, nq), lat);
-        sum += relative_l2_log_loss(z, sc.target.slice(0, 0, nq), m_cfg.loss_eps).item<double>();
+        const auto target = sc.target.slice(0, 0, nq);
+        sum += relative_l2_log_loss(z, target, m_cfg.loss_eps).item<double>();
+        // Plain MSE of z = log1p(E⁺): not dominated by a few dark points the way the relative loss is.
+        sum_mse += (z - torch::log1p(target)).pow(2).mean().item<double>();
     }
+    m_val_mse_log = sum_mse / double(m_val_paths.size());
     m_model->train();
     return sum / double(m_val_paths.size());
 }
@@ -215,8 +229,10 @@ void Trainer::run(bool resume, int64_t stop_at) {
         }
         if (m_step % m_cfg.val_every == 0 || m_step == m_cfg.steps) {
             const double v = validate();
-            log << OrderedJson({{"step", m_step - 1}, {"val_loss", v}}).dump() << "\n" << std::flush;
-            log_info("step ", m_step, " validation loss ", v, " (", m_val_paths.size(), " held-out scenes)");
+            log << OrderedJson({{"step", m_step - 1}, {"val_loss", v}, {"val_mse_log", m_val_mse_log}}).dump() << "\n"
+                << std::flush;
+            log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, " (", m_val_paths.size(),
+                     " held-out scenes)");
             if (std::isfinite(v) && v < m_best_val) {
                 m_best_val = v;
                 save(best);

@@ -1,6 +1,8 @@
 // cli_test.cpp: end-to-end runs of the CLI through run_cli(), as a user would type them.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "cli.h"
 #include "ltm/core/exr.h"
 #include "ltm/core/file_util.h"
@@ -8,6 +10,9 @@
 #include "ltm/points/ply_io.h"
 #include "ltm/scene/scene_io.h"
 #include "test_util.h"
+#ifdef LTM_WITH_TORCH
+#include "ltm/nn/checkpoint.h"
+#endif
 
 using namespace ltm;
 
@@ -139,5 +144,67 @@ TEST(Cli, DatasetTrainExportInfoSmoke) {
     r = run({"train", "--model", test::source_path("configs/model/cpu.json"), "--data", data, "--out", dir.path("run2")});
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("dataset preset 'ci'"), std::string::npos) << r.err;
+}
+#endif
+
+TEST(Cli, EditMovesALightAndRefusesBadEdits) {
+    test::TempDir dir;
+    const std::string scene = dir.path("s.json"), edited = dir.path("e.json");
+    ASSERT_EQ(run({"generate", "--seed", "11", "-o", scene, "-q"}).code, 0);
+    auto r = run({"edit", scene, "--move", "light0=0.25,0,-0.5", "--albedo", "room0_walls=0.8,0.3,0.2", "-o", edited, "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Scene a = load_scene(scene), b = load_scene(edited);
+    for (size_t i = 0; i < a.meshes.size(); ++i) {
+        const Vec3f shift = a.meshes[i].name == "light0" ? Vec3f(0.25f, 0.f, -0.5f) : Vec3f(0.f);
+        EXPECT_LT(length(b.meshes[i].positions[0] - (a.meshes[i].positions[0] + shift)), 1e-5f) << a.meshes[i].name;
+    }
+    for (const auto &args : std::vector<std::vector<std::string>>{
+             {"edit", scene, "--move", "sofa99=1,0,0", "-o", dir.path("x.json")},
+             {"edit", scene, "--albedo", "room0_walls=1.5,0,0", "-o", dir.path("x.json")},
+             {"edit", scene, "--move", "light0=1,0", "-o", dir.path("x.json")},
+             {"edit", scene, "-o", dir.path("x.json")}}) {
+        r = run(args);
+        EXPECT_EQ(r.code, 1) << args[2];
+        EXPECT_NE(r.err.find("ltm edit: error:"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir.path("x.json")));
+    }
+}
+
+#ifdef LTM_WITH_TORCH
+// Neural render and eval end to end with a tiny random model: files, timings, report.
+TEST(Cli, NeuralRenderAndEvalSmoke) {
+    test::TempDir dir;
+    const std::string weights = dir.path("tiny.safetensors"), scene = dir.path("s.json");
+    {
+        LtmModel m(ModelConfig::from_file(test::source_path("configs/model/tiny.json")));
+        save_weights(weights, m);
+    }
+    ASSERT_EQ(run({"generate", "--seed", "900003", "-o", scene, "-q"}).code, 0);
+    auto r = run({"render", scene, "--method", "neural", "--model", weights, "--width", "32", "--height", "24",
+                  "--direct-spp", "2", "-o", dir.path("n"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char *f : {"n.exr", "n.png", "n.irradiance.png", "n.timings.json"})
+        EXPECT_TRUE(std::filesystem::exists(dir.path(f))) << f;
+    const Json t = parse_json_file(dir.path("n.timings.json"));
+    for (const char *k : {"encode_s", "knn_s", "decode_s", "direct_s", "total_s"}) EXPECT_TRUE(t["timings"].contains(k)) << k;
+    EXPECT_EQ(t["scene_points"].get<int>(), 1024);
+    r = run({"eval", "--model", weights, "--ablation", "again=" + weights, "--scenes", scene, "--width", "24", "--height",
+             "24", "--ref-spp", "8", "--baseline-spp", "2", "--views", "2", "-o", dir.path("ev"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Json rep = parse_json_file(dir.path("ev/report.json"));
+    EXPECT_EQ(rep["views"].size(), 2u);
+    for (const char *m : {"model:ours", "model:again", "pt2", "pt-equal-time"}) EXPECT_TRUE(rep["summary"].contains(m)) << m;
+    // The same weights give the same metrics: the ablation path is the model path.
+    EXPECT_EQ(rep["summary"]["model:ours"]["mse"]["mean"], rep["summary"]["model:again"]["mse"]["mean"]);
+    EXPECT_NE(read_file(dir.path("ev/table.md")).find("| pt-equal-time |"), std::string::npos);
+    EXPECT_TRUE(std::filesystem::exists(dir.path("ev/s_main.png")));
+    // Bad input: a corrupted model file and a non-model file are one-line errors.
+    write_file_atomic(dir.path("bad.safetensors"), "not a safetensors file");
+    r = run({"render", scene, "--method", "neural", "--model", dir.path("bad.safetensors"), "-o", dir.path("b")});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("bad.safetensors"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("b.png")));
+    r = run({"render", scene, "--method", "neural", "-o", dir.path("b")});
+    EXPECT_EQ(r.code, 1);
 }
 #endif

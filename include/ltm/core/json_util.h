@@ -2,6 +2,8 @@
 // type-checks each value and rejects unknown keys, naming the file and the JSON pointer.
 #pragma once
 
+#include <cstdint>
+
 #include <set>
 #include <string>
 #include <vector>

@@ -3,6 +3,8 @@
 // (.ltmckpt: torch archive with model, optimizer, step, config). All writes are atomic.
 #pragma once
 
+#include <cstdint>
+
 #include <string>
 
 #include <torch/torch.h>
@@ -14,9 +16,11 @@ namespace ltm {
 inline constexpr int k_weights_format_version = 1;
 inline constexpr int k_arch_version = 1;   ///< bump when parameter names or shapes change meaning
 
-/// Writes every parameter and buffer (F32, CPU copies) plus metadata: format, format_version,
-/// arch_version, config (JSON), and `extra` entries (e.g. step, val_loss).
-void save_weights(const std::string &path, LtmModel &model, const std::map<std::string, std::string> &extra = {});
+/// Writes every parameter and buffer (F32 CPU copies, or F16 with `half`: half the size, for
+/// shipping; loading converts back to F32) plus metadata: format, format_version, arch_version,
+/// config (JSON), and `extra` entries (e.g. step, val_loss).
+void save_weights(const std::string &path, LtmModel &model, const std::map<std::string, std::string> &extra = {},
+                  bool half = false);
 
 /// Builds the model from the file's config and loads its tensors. Throws "path: ..." for another
 /// format/architecture version, missing/unexpected tensors, or shape mismatches.

@@ -3,6 +3,8 @@
 // each query's [κ, D] work stays in L1 instead of ~15 eager libtorch passes over [N, κ, D].
 #pragma once
 
+#include <cstdint>
+
 #include <vector>
 
 #include <torch/torch.h>

@@ -2,6 +2,8 @@
 // geometry, so callers compute them once per scene and cache them (ARCHITECTURE.md §6).
 #pragma once
 
+#include <cstdint>
+
 #include <torch/torch.h>
 
 namespace ltm {

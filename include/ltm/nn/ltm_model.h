@@ -3,6 +3,8 @@
 // Inference API: encode() once per scene, decode() any number of query chunks.
 #pragma once
 
+#include <cstdint>
+
 #include <torch/torch.h>
 
 #include "ltm/nn/model_config.h"
@@ -31,6 +33,12 @@ torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const to
 torch::Tensor normalize_query_points(const torch::Tensor &query_points, const torch::Tensor &center);
 torch::Tensor bounding_box_center(const torch::Tensor &positions);
 
+/// Where predict_irradiance spends its time (seconds, accumulated over chunks).
+struct PredictTimings {
+    double knn = 0.0;      ///< anchor kNN of the queries (fused CPU path only; else inside decode)
+    double decode = 0.0;   ///< normalisation + decoder + expm1
+};
+
 struct LtmModelImpl : torch::nn::Module {
     explicit LtmModelImpl(const ModelConfig &cfg);
 
@@ -49,7 +57,7 @@ struct LtmModelImpl : torch::nn::Module {
     /// kernel tiles internally, so large chunks cost nothing and avoid per-chunk thread start-up;
     /// the libtorch path prefers ~1024 (its [chunk, κ, D] temporaries then stay in cache).
     torch::Tensor predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
-                                     int64_t chunk = 16384);
+                                     int64_t chunk = 16384, PredictTimings *timings = nullptr);
     int64_t n_parameters() const;
 
     ModelConfig cfg;

@@ -3,6 +3,8 @@
 // 𝓖 maps cat(X_j − X̃_l, X̃_l[, p_j − p̃_l]) and a max over the group gives the centre's token.
 #pragma once
 
+#include <cstdint>
+
 #include <torch/torch.h>
 
 #include "ltm/nn/model_config.h"

@@ -3,6 +3,8 @@
 // z = log1p(E⁺) ≥ 0. Also the knn-mean ablation (mean of the κ latents + MLP, Fig. 14).
 #pragma once
 
+#include <cstdint>
+
 #include <torch/torch.h>
 
 #include "ltm/nn/model_config.h"

@@ -3,6 +3,8 @@
 // millimetres on the xz plane, so walls, doors and the shell grid are exact.
 #pragma once
 
+#include <cstdint>
+
 #include <string>
 #include <vector>
 

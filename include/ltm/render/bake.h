@@ -4,6 +4,8 @@
 // on (seed, scene id, point index, sample index)).
 #pragma once
 
+#include <cstdint>
+
 #include <string>
 #include <vector>
 

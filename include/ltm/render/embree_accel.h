@@ -2,6 +2,8 @@
 // recorded by the device callback and rethrown as ltm::Error after each call that can fail.
 #pragma once
 
+#include <cstdint>
+
 #include <atomic>
 #include <optional>
 #include <string>

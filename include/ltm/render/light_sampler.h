@@ -2,6 +2,8 @@
 // area × emitted luminance, and evaluates that pdf for MIS when a path hits an emitter.
 #pragma once
 
+#include <cstdint>
+
 #include <vector>
 
 #include "ltm/core/math.h"

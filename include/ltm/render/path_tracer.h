@@ -37,7 +37,7 @@ public:
     /// directions (each adds π·L_r(y), L_r without emission at y, by path tracing with NEE+MIS);
     /// for E_direct, one light sample per stratum, MIS-combined (power heuristic) with the
     /// cosine directions that hit a light. Deterministic in (seed, scene_id, point_index, sample).
-    IrradianceEstimate irradiance(Vec3f p, Vec3f n, uint64_t point_index, int n_samples) const;
+    IrradianceEstimate irradiance(Vec3f p, Vec3f n, uint64_t point_index, int n_samples, bool with_indirect = true) const;
 
     /// Incident radiance L_i (emission + scattered, up to max_depth scattering events) averaged
     /// over each of the resolution² bins of hemisphere_bins.h, samples_per_bin stratified samples
@@ -46,7 +46,10 @@ public:
                                               int samples_per_bin) const;
 
     /// One stratum of irradiance(): sample s of n_samples, random stream `key`.
-    IrradianceEstimate irradiance_sample(Vec3f p, Vec3f n, uint64_t key, int s, int n_samples) const;
+    /// with_indirect = false skips the path continuation (E⁺ = 0): the same E_direct estimator, for
+    /// renderers that take E⁺ from elsewhere (the neural renderer).
+    IrradianceEstimate irradiance_sample(Vec3f p, Vec3f n, uint64_t key, int s, int n_samples,
+                                         bool with_indirect = true) const;
 
     /// Radiance leaving surface point `si` towards -wo_dir... reflected only (no emission at si),
     /// with at most `max_scatter` scattering events counting si as the first.

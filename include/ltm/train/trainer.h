@@ -3,6 +3,8 @@
 // held-out scenes, JSONL log, atomic checkpoints and exact resume.
 #pragma once
 
+#include <cstdint>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -49,13 +51,17 @@ public:
     /// last.ltmckpt, best.ltmckpt, model.json and train.json.
     Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::string &data_dir, const std::string &out_dir,
             torch::Device device = torch::kCPU);
+    /// Starts from exported weights (fine-tuning; the optimizer starts fresh). The weights'
+    /// config must equal the model config.
+    void init_weights(const std::string &weights_path);
     /// Trains up to cfg.steps (or stop_at, if smaller); with resume, continues from last.ltmckpt.
     void run(bool resume, int64_t stop_at = -1);
-    /// Mean validation loss over the held-out scenes.
+    /// Mean validation loss over the held-out scenes (also sets val_mse_log()).
     double validate();
     const std::vector<TrainStepLog> &history() const { return m_history; }
     LtmModel &model() { return m_model; }
     int64_t step() const { return m_step; }
+    double val_mse_log() const { return m_val_mse_log; }
 
 private:
     struct CachedScene {
@@ -76,6 +82,7 @@ private:
     std::vector<TrainStepLog> m_history;
     int64_t m_step = 0;
     double m_best_val = 1e30;
+    double m_val_mse_log = NAN;   ///< mean((z − log1p(E⁺))²) of the last validation
 };
 
 }  // namespace ltm

@@ -1,0 +1,46 @@
+// cmd_render_neural.cpp: the libtorch half of `ltm render --method neural`.
+#include "cli.h"
+#include "ltm/core/file_util.h"
+#include "ltm/core/log.h"
+#include "ltm/core/progress.h"
+#include "ltm/eval/metrics.h"
+#include "ltm/infer/neural_renderer.h"
+#include "ltm/scene/scene_io.h"
+
+namespace ltm::cli {
+
+void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
+    LoadedModel m = load_model(a.model);
+    const Scene scene = load_scene(a.scene);
+    for (const auto &w : scene_range_warnings(scene)) log_warn(a.scene, ": ", w);
+    const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);
+    const EmbreeAccel accel(scene);
+    check_camera(accel, cam, a.scene);
+    PathTracerConfig cfg;
+    cfg.seed = common.seed;
+    const PathTracer pt(accel, cfg);
+    const NeuralRender r = render_neural(m.model, pt, cam, a.direct_spp, common.seed, a.exclude_enclosed);
+    if (r.n_conductor > 0)
+        log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (the model predicts irradiance only)");
+    write_rendered_image(r.image, a.prefix, a.exposure);
+    write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
+    const auto &t = r.timings;
+    OrderedJson j = {{"scene", a.scene},
+                     {"model", a.model},
+                     {"width", cam.width},
+                     {"height", cam.height},
+                     {"queries", r.n_queries},
+                     {"scene_points", r.n_scene_points},
+                     {"direct_spp", a.direct_spp},
+                     {"threads", common.threads},
+                     {"timings", t.to_json()}};
+    write_file_atomic(a.prefix + ".timings.json", j.dump(2) + "\n");
+    log_info("neural render ", cam.width, "x", cam.height, " (", r.n_queries, " queries, ", r.n_scene_points,
+             " scene points) in ", format_duration(t.total), ": encode ", format_duration(t.sample + t.geometry + t.encode),
+             " (sample ", format_duration(t.sample), ", fps/knn ", format_duration(t.geometry), ", ptv3 ",
+             format_duration(t.encode), "), g-buffer ", format_duration(t.gbuffer), ", knn ", format_duration(t.knn),
+             ", decode ", format_duration(t.decode), ", direct ", format_duration(t.direct));
+    log_info("wrote ", a.prefix, ".exr, ", a.prefix, ".png, ", a.prefix, ".irradiance.png, ", a.prefix, ".timings.json");
+}
+
+}  // namespace ltm::cli

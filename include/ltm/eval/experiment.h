@@ -1,0 +1,63 @@
+// experiment.h: `ltm eval` — the model against path tracing on held-out scenes (paper §6, Table 1).
+// Every method is evaluated at the same G-buffer points (one per pixel centre), so the images
+// compared are indirect irradiance E⁺ alone: the reference (high spp), the model(s), PT at the
+// paper's 64 spp and PT at the model's own wall time.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ltm/core/json_util.h"
+#include "ltm/eval/metrics.h"
+#include "ltm/nn/ltm_model.h"
+#include "ltm/scene/scene.h"
+
+namespace ltm {
+
+struct EvalOptions {
+    int width = 128, height = 128;   ///< every view is rendered at this size
+    int views = 1;                   ///< view v turns the scene camera by 360°·v/views about its eye
+    int ref_spp = 1024;              ///< reference E⁺ samples per pixel
+    int baseline_spp = 64;           ///< the paper's PT baseline
+    uint64_t seed = 0;
+    bool exclude_enclosed = true;    ///< scene-point sampling as in the dataset
+    std::string out_dir;             ///< grids go here (empty: no images)
+};
+
+struct EvalModel {
+    std::string name, path;
+    LtmModel model{nullptr};
+};
+
+struct EvalScene {
+    std::string name;
+    Scene scene;
+};
+
+struct MethodResult {
+    std::string method;   ///< "model:<name>", "pt64", "pt-equal-time"
+    ImageMetrics metrics;
+    double seconds = 0;   ///< the method's own time for this view
+    int spp = 0;          ///< PT methods: samples per pixel
+};
+
+struct ViewResult {
+    std::string scene, view;
+    int64_t pixels = 0;             ///< pixels with a surface
+    double reference_seconds = 0;
+    std::vector<MethodResult> methods;
+};
+
+struct EvalReport {
+    EvalOptions options;
+    std::vector<std::string> models;
+    std::vector<ViewResult> views;
+    OrderedJson to_json() const;
+    /// Markdown table like the paper's Table 1: mean ± std over all views per method.
+    std::string table_markdown() const;
+};
+
+/// Runs every scene × view × method; progress on stderr; grids into options.out_dir.
+EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<EvalModel> &models, const EvalOptions &opt);
+
+}  // namespace ltm

@@ -1,0 +1,57 @@
+// neural_renderer.h: images from the light transport model (paper §5, ARCHITECTURE.md §7).
+// Encode the scene once (M scene points → latents), G-buffer from primary rays, decode Ê⁺ at every
+// hit in chunks, E_direct by shadow rays, compose Le + albedo/π·(E_direct + Ê⁺).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "ltm/core/json_util.h"
+#include "ltm/nn/ltm_model.h"
+#include "ltm/render/gbuffer.h"
+
+namespace ltm {
+
+/// A model loaded from `ltm export` weights, with its config.
+struct LoadedModel {
+    LtmModel model{nullptr};
+    std::string path;
+    std::map<std::string, std::string> metadata;
+};
+/// Loads weights (config from the file's metadata), eval mode; throws "path: ..." on a corrupted
+/// or foreign file.
+LoadedModel load_model(const std::string &path);
+
+/// Warnings for scenes unlike the training distribution (size, no light): one line each.
+std::vector<std::string> scene_range_warnings(const Scene &scene);
+
+struct EncodedScene {
+    SceneLatents latents;
+    int64_t n_scene_points = 0;
+    double sample_seconds = 0, geometry_seconds = 0, encode_seconds = 0;
+};
+/// Samples the model's M scene points exactly as `ltm dataset build` does (same sampler, stream
+/// and enclosed-surface filter) with `seed`, then FPS/kNN and the encoder. Independent of any camera.
+EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);
+
+/// Ê⁺ at the G-buffer's hit points (normal on the side facing the eye).  -> one Vec3f per hit.
+std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
+                                   PredictTimings *timings = nullptr);
+
+struct NeuralTimings {
+    double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
+    /// The model's own cost: everything but the G-buffer and direct light (which any renderer pays).
+    double model() const { return sample + geometry + encode + knn + decode; }
+    OrderedJson to_json() const;
+};
+
+struct NeuralRender {
+    RenderedImage image;   ///< irradiance AOV = Ê⁺, direct = E_direct
+    NeuralTimings timings;
+    int64_t n_queries = 0, n_scene_points = 0, n_conductor = 0;
+};
+/// The whole neural render of one view; direct_spp shadow-ray samples per pixel.
+NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, int direct_spp,
+                           uint64_t seed, bool exclude_enclosed = true);
+
+}  // namespace ltm

@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# ltm-gpu.sh: build and run ltm on a CUDA machine that has pip PyTorch but none of our Debian
+# packages (the lent GPU machines of this workplace). The Debian packages travel as .deb files in
+# .devdeps/debs (fetched on the dev machine with `apt-get download`, see docs/performance.md) and
+# are unpacked into a private prefix; libtorch is the one inside the pip torch package.
+#
+#   scripts/device/ltm-gpu.sh setup            unpack, configure, build ltm + gpu_tests (build-cuda/)
+#   scripts/device/ltm-gpu.sh bake A:B         dataset build of seeds A..B-1 in the background (setsid)
+#   scripts/device/ltm-gpu.sh train STEPS      training on what is baked, in the background (setsid)
+#   scripts/device/ltm-gpu.sh tests            gpu_tests, nn_tests, ptv3_tests against this torch
+#   scripts/device/ltm-gpu.sh bench STEPS      foreground training steps/s on what is baked so far
+#   scripts/device/ltm-gpu.sh status           bake/train progress
+#   scripts/device/ltm-gpu.sh collect          weights (split into <16 MiB parts) + logs into $OUT
+set -euo pipefail
+
+PREFIX=/opt/ltmdeps
+ROOT=$(pwd)
+BUILD=$ROOT/build-cuda
+DATA=${DATA:-/tmp/ltm-data/cpu}
+RUN=/tmp/ltm-runs/gpu1
+OUT=${OUT:-/tmp/ltm-out}
+mkdir -p "$OUT"
+
+env_setup() {
+  export LD_LIBRARY_PATH=$PREFIX/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+  export PATH=/usr/local/cuda/bin:$PATH
+  TORCH_PREFIX=$(python3 -c 'import torch; print(torch.utils.cmake_prefix_path)')
+  TORCH_LIB=$(python3 -c 'import torch, os; print(os.path.join(os.path.dirname(torch.__file__), "lib"))')
+  export LD_LIBRARY_PATH=$TORCH_LIB:$LD_LIBRARY_PATH
+}
+
+cmd_setup() {
+  local t0=$SECONDS
+  mkdir -p $PREFIX
+  for f in .devdeps/debs/*.deb; do
+    if command -v dpkg-deb >/dev/null; then dpkg-deb -x "$f" $PREFIX
+    else (d=$(mktemp -d); cd "$d" && ar x "$ROOT/$f" && tar -xf data.tar.* -C $PREFIX; rm -rf "$d"); fi
+  done
+  # Debian's ImathTargets.cmake also imports the Python binding (python3-imath, not carried); CMake
+  # checks that every imported file exists, so give it an empty stand-in. Nothing links it.
+  touch $PREFIX/usr/lib/x86_64-linux-gnu/libPyImath_Python3_11-3_1.so.29.5.0
+  env_setup
+  echo "setup: python $(python3 -c 'import torch; print(torch.__version__, torch.version.cuda, torch.cuda.get_device_name(0))')"
+  echo "setup: $(g++ --version | head -1); $(nvcc --version | tail -1); cmake $(cmake --version | head -1)"
+  # The C++ standard the installed torch headers accept: 17 if they compile with it, else 20.
+  local std=17
+  echo '#include <torch/torch.h>
+int main() { return torch::ones({1}).item<int>() - 1; }' > /tmp/stdprobe.cpp
+  if ! g++ -std=c++17 -fsyntax-only $(python3 -c 'from torch.utils.cpp_extension import include_paths; print(" ".join("-I"+p for p in include_paths()))') /tmp/stdprobe.cpp 2>/tmp/stdprobe.log; then
+    std=20; echo "setup: torch headers need C++20:"; head -5 /tmp/stdprobe.log
+  fi
+  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_STANDARD=$std \
+    -DLTM_BUILD_BENCH=OFF -DLTM_BUILD_TESTS=ON \
+    -DCMAKE_PREFIX_PATH="$PREFIX/usr;$TORCH_PREFIX" \
+    -DPKG_CONFIG_EXECUTABLE=$PREFIX/usr/bin/pkgconf \
+    -DCMAKE_CUDA_ARCHITECTURES=90 > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
+  echo "setup: configured in $((SECONDS - t0)) s (C++$std)"
+  cmake --build "$BUILD" -j16 --target ltm gpu_tests nn_tests ptv3_tests -- -k 0 > "$OUT/build.log" 2>&1 || { grep -B2 -A12 "error" "$OUT/build.log" | head -80; exit 1; }
+  echo "setup: built in $((SECONDS - t0)) s"
+}
+
+export PKG_CONFIG_SYSROOT_DIR=$PREFIX
+export PKG_CONFIG_LIBDIR=$PREFIX/usr/lib/x86_64-linux-gnu/pkgconfig:$PREFIX/usr/share/pkgconfig
+
+cmd_bake() {
+  env_setup
+  mkdir -p "$DATA"
+  setsid nohup nice -n 5 "$BUILD/apps/ltm/ltm" dataset build --config "${PRESET:-configs/data/cpu.json}" \
+    --seed-range "$1" -o "$DATA" > /tmp/ltm-bake.log 2>&1 < /dev/null &
+  echo "bake: started seeds $1 into $DATA"
+}
+
+cmd_train() {
+  env_setup
+  pkill -f "ltm dataset buil[d]" || true
+  sleep 1
+  echo "train: $(ls "$DATA"/scene-*.safetensors | wc -l) records"
+  mkdir -p "$(dirname "$RUN")"
+  setsid nohup "$BUILD/apps/ltm/ltm" train --model configs/model/cpu.json --data "$DATA" --out "$RUN" \
+    --device cuda --steps "$1" ${2:+--set "$2"} > /tmp/ltm-train.log 2>&1 < /dev/null &
+  echo "train: started, $1 steps"
+}
+
+cmd_tests() {
+  env_setup
+  for t in gpu_tests nn_tests ptv3_tests; do
+    "$BUILD/tests/$t" --gtest_brief=1 > "$OUT/$t.log" 2>&1 && echo "tests: $t passed ($(grep -c '^\[       OK' "$OUT/$t.log" || true) listed OK)" \
+      || { echo "tests: $t FAILED"; tail -30 "$OUT/$t.log"; }
+  done
+}
+
+cmd_bench() {
+  env_setup
+  rm -rf /tmp/ltm-bench-run
+  "$BUILD/apps/ltm/ltm" train --model configs/model/cpu.json --data "$DATA" --out /tmp/ltm-bench-run --device cuda \
+    --steps "$1" --set val_every=100000 --set log_every=20 --set ckpt_every=100000 2>&1 | grep -E "steps/s|error|parameters" | tail -12
+}
+
+cmd_status() {
+  echo "records: $(ls "$DATA"/scene-*.safetensors 2>/dev/null | wc -l)"
+  tail -c 300 /tmp/ltm-bake.log 2>/dev/null | tr '\r' '\n' | tail -2 || true
+  tail -3 /tmp/ltm-train.log 2>/dev/null || true
+}
+
+cmd_collect() {
+  env_setup
+  local ck=$RUN/best.ltmckpt
+  [[ -f $ck ]] || ck=$RUN/last.ltmckpt
+  "$BUILD/apps/ltm/ltm" export "$ck" -o /tmp/ltm-cpu-gpu.safetensors
+  split -b 15M -d /tmp/ltm-cpu-gpu.safetensors "$OUT/weights.part"
+  sha256sum /tmp/ltm-cpu-gpu.safetensors > "$OUT/weights.sha256"
+  cp "$RUN/log.jsonl" "$OUT/log.jsonl"
+  cp /tmp/ltm-train.log "$OUT/train.log" 2>/dev/null || true
+  ls "$DATA" > "$OUT/records.txt"
+  echo "collect: $(basename "$ck") exported"
+}
+
+case "${1:-}" in
+  setup) cmd_setup ;;
+  bake) cmd_bake "$2" ;;
+  train) cmd_train "$2" "${3:-}" ;;
+  tests) cmd_tests ;;
+  bench) cmd_bench "$2" ;;
+  status) cmd_status ;;
+  collect) cmd_collect ;;
+  *) echo "usage: $0 setup|bake A:B|train STEPS [key=value]|status|collect" >&2; exit 2 ;;
+esac

@@ -1,0 +1,197 @@
+// experiment.cpp: scenes × views × methods → metrics, grids, report.
+#include "ltm/eval/experiment.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
+#include "ltm/core/log.h"
+#include "ltm/core/rng.h"
+#include "ltm/eval/image_grid.h"
+#include "ltm/infer/neural_renderer.h"
+#include "ltm/render/gbuffer.h"
+
+namespace ltm {
+
+namespace {
+
+/// View v of n: the scene's first camera turned about its eye by 360°·v/n (yaw about +y).
+Camera view_camera(const Scene &scene, int v, int n, int width, int height) {
+    if (scene.cameras.empty()) LTM_THROW("eval: scene '", scene.name, "' has no camera");
+    Camera cam = scene.cameras.front();
+    cam.width = width, cam.height = height;
+    if (v > 0) {
+        const float a = 2.f * k_pi * float(v) / float(n), c = std::cos(a), s = std::sin(a);
+        const Vec3f d = cam.target - cam.eye;
+        cam.target = cam.eye + Vec3f{c * d.x + s * d.z, d.y, -s * d.x + c * d.z};
+        cam.name += "-yaw" + std::to_string(360 * v / n);
+    }
+    return cam;
+}
+
+struct Stats {
+    double mean = 0, std = 0;
+};
+Stats stats(const std::vector<double> &v) {
+    Stats s;
+    if (v.empty()) return s;
+    for (double x : v) s.mean += x;
+    s.mean /= double(v.size());
+    for (double x : v) s.std += (x - s.mean) * (x - s.mean);
+    s.std = v.size() > 1 ? std::sqrt(s.std / double(v.size() - 1)) : 0.0;
+    return s;
+}
+
+OrderedJson metrics_json(const ImageMetrics &m) {
+    return {{"mse", m.mse}, {"psnr", std::isfinite(m.psnr) ? OrderedJson(m.psnr) : OrderedJson("inf")},
+            {"ssim", m.ssim}, {"rel_mse", m.rel_mse}};
+}
+
+std::vector<std::string> method_order(const EvalReport &r) {
+    std::vector<std::string> out;
+    for (const auto &v : r.views)
+        for (const auto &m : v.methods)
+            if (std::find(out.begin(), out.end(), m.method) == out.end()) out.push_back(m.method);
+    return out;
+}
+
+}  // namespace
+
+EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<EvalModel> &models, const EvalOptions &opt) {
+    if (opt.views < 1) LTM_THROW("eval: views must be >= 1, got ", opt.views);
+    if (opt.ref_spp < 1 || opt.baseline_spp < 1) LTM_THROW("eval: samples per pixel must be >= 1");
+    using Clock = std::chrono::steady_clock;
+    EvalReport report;
+    report.options = opt;
+    for (const auto &m : models) report.models.push_back(m.name);
+    if (!opt.out_dir.empty()) create_directories(opt.out_dir);
+    for (size_t si = 0; si < scenes.size(); ++si) {
+        const EvalScene &es = scenes[si];
+        const EmbreeAccel accel(es.scene);
+        // Independent random streams per method: the baselines must not share samples with the reference.
+        auto tracer_config = [&](uint64_t role) {
+            PathTracerConfig c;
+            c.seed = hash_keys({opt.seed, role});
+            return c;
+        };
+        const PathTracer pt_ref(accel, tracer_config(1)), pt_64(accel, tracer_config(2)), pt_eq(accel, tracer_config(3));
+        std::vector<EncodedScene> encoded;
+        for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
+        for (int v = 0; v < opt.views; ++v) {
+            const Camera cam = view_camera(es.scene, v, opt.views, opt.width, opt.height);
+            const GBuffer gb = render_gbuffer(accel, cam);
+            if (gb.n_hits() == 0) {
+                log_warn("eval: ", es.name, " view ", cam.name, " sees nothing; skipped");
+                continue;
+            }
+            ViewResult vr;
+            vr.scene = es.name, vr.view = cam.name, vr.pixels = int64_t(gb.n_hits());
+            log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
+            const IrradianceImages ref = irradiance_images(pt_ref, gb, opt.ref_spp, true);
+            vr.reference_seconds = ref.seconds;
+            std::vector<Image> model_images;
+            double first_model_seconds = 0;
+            for (size_t mi = 0; mi < models.size(); ++mi) {
+                const auto t0 = Clock::now();
+                PredictTimings pt;
+                const Image pred = scatter_to_image(gb, predict_gbuffer(models[mi].model, encoded[mi], gb, &pt));
+                const double decode_s = std::chrono::duration<double>(Clock::now() - t0).count();
+                const EncodedScene &e = encoded[mi];
+                // A single frame pays the encoder too: the model's time is encode + kNN + decode.
+                const double secs = e.sample_seconds + e.geometry_seconds + e.encode_seconds + decode_s;
+                if (mi == 0) first_model_seconds = secs;
+                vr.methods.push_back({"model:" + models[mi].name, compare_images(pred, ref.indirect), secs, 0});
+                model_images.push_back(pred);
+            }
+            const IrradianceImages b64 = irradiance_images(pt_64, gb, opt.baseline_spp, true);
+            vr.methods.push_back({"pt" + std::to_string(opt.baseline_spp), compare_images(b64.indirect, ref.indirect),
+                                  b64.seconds, opt.baseline_spp});
+            Image eq_img;
+            if (!models.empty()) {
+                // PT at the model's wall time: spp scaled from the 64-spp run's measured rate.
+                const int spp_eq = std::max(1, int(std::lround(double(opt.baseline_spp) * first_model_seconds / b64.seconds)));
+                const IrradianceImages eq = irradiance_images(pt_eq, gb, spp_eq, true);
+                vr.methods.push_back({"pt-equal-time", compare_images(eq.indirect, ref.indirect), eq.seconds, spp_eq});
+                eq_img = eq.indirect;
+            }
+            if (!opt.out_dir.empty()) {
+                // albedo | reference | model | PT 64 | PT equal time | |model − reference|
+                const float scale = tonemap_scale(ref.indirect);
+                std::vector<Image> tiles{scatter_to_image(gb, gb.albedo), tonemap(ref.indirect, scale)};
+                if (!model_images.empty()) tiles.push_back(tonemap(model_images[0], scale));
+                tiles.push_back(tonemap(b64.indirect, scale));
+                if (!model_images.empty()) {
+                    tiles.push_back(tonemap(eq_img, scale));
+                    tiles.push_back(error_map(model_images[0], ref.indirect, scale));
+                }
+                write_png(opt.out_dir + "/" + es.name + "_" + cam.name + ".png", hconcat(tiles), 1.f);
+            }
+            report.views.push_back(std::move(vr));
+        }
+    }
+    return report;
+}
+
+OrderedJson EvalReport::to_json() const {
+    OrderedJson j;
+    j["options"] = {{"width", options.width},       {"height", options.height},
+                    {"views", options.views},       {"ref_spp", options.ref_spp},
+                    {"baseline_spp", options.baseline_spp}, {"seed", options.seed},
+                    {"metric_definition",
+                     "E+ images; MSE/PSNR/SSIM after dividing both images by the reference's 99th-percentile "
+                     "luminance and clamping to [0,1] (SSIM: Gaussian 11x11, sigma 1.5, K1 0.01, K2 0.03, mean over "
+                     "RGB); relMSE = mean (x-ref)^2/(ref^2+0.01) on linear HDR"}};
+    j["models"] = models;
+    OrderedJson summary = OrderedJson::object();
+    for (const auto &method : method_order(*this)) {
+        std::vector<double> mse, ssim, psnr, rel, secs;
+        for (const auto &v : views)
+            for (const auto &m : v.methods)
+                if (m.method == method) {
+                    mse.push_back(m.metrics.mse), ssim.push_back(m.metrics.ssim), rel.push_back(m.metrics.rel_mse);
+                    secs.push_back(m.seconds);
+                    if (std::isfinite(m.metrics.psnr)) psnr.push_back(m.metrics.psnr);
+                }
+        auto ms = [](const std::vector<double> &x) {
+            const Stats s = stats(x);
+            return OrderedJson{{"mean", s.mean}, {"std", s.std}};
+        };
+        summary[method] = {{"views", mse.size()}, {"mse", ms(mse)}, {"ssim", ms(ssim)}, {"psnr", ms(psnr)},
+                           {"rel_mse", ms(rel)}, {"seconds", ms(secs)}};
+    }
+    j["summary"] = summary;
+    OrderedJson vs = OrderedJson::array();
+    for (const auto &v : views) {
+        OrderedJson mj = OrderedJson::array();
+        for (const auto &m : v.methods)
+            mj.push_back({{"method", m.method}, {"metrics", metrics_json(m.metrics)}, {"seconds", m.seconds}, {"spp", m.spp}});
+        vs.push_back({{"scene", v.scene}, {"view", v.view}, {"pixels", v.pixels},
+                      {"reference_seconds", v.reference_seconds}, {"methods", mj}});
+    }
+    j["views"] = vs;
+    return j;
+}
+
+std::string EvalReport::table_markdown() const {
+    std::ostringstream o;
+    const OrderedJson j = to_json();
+    o << "| method | views | MSE ↓ | SSIM ↑ | PSNR (dB) ↑ | relMSE ↓ | time (s) |\n|---|---|---|---|---|---|---|\n";
+    char buf[512];
+    for (const auto &[method, s] : j["summary"].items()) {
+        auto f = [&](const char *k, const char *fmt) {
+            std::snprintf(buf, sizeof buf, fmt, s[k]["mean"].get<double>(), s[k]["std"].get<double>());
+            return std::string(buf);
+        };
+        o << "| " << method << " | " << s["views"].get<size_t>() << " | " << f("mse", "%.4f ± %.4f") << " | "
+          << f("ssim", "%.3f ± %.3f") << " | " << f("psnr", "%.2f ± %.2f") << " | " << f("rel_mse", "%.3f ± %.3f")
+          << " | " << f("seconds", "%.2f ± %.2f") << " |\n";
+    }
+    o << "\nE⁺ (indirect irradiance) at one surface point per pixel, " << options.width << "×" << options.height
+      << ", reference " << options.ref_spp << " spp. MSE/PSNR/SSIM on images divided by the reference's "
+      << "99th-percentile luminance and clamped to [0, 1]; relMSE on linear HDR. mean ± std over views.\n";
+    return o.str();
+}
+
+}  // namespace ltm

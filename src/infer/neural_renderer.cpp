@@ -1,0 +1,120 @@
+// neural_renderer.cpp: encode once, decode the G-buffer, add direct light, compose.
+#include "ltm/infer/neural_renderer.h"
+
+#include <chrono>
+
+#include "ltm/core/error.h"
+#include "ltm/core/log.h"
+#include "ltm/nn/checkpoint.h"
+#include "ltm/points/surface_sampler.h"
+#include "ltm/render/enclosure.h"
+
+namespace ltm {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+torch::Tensor to_tensor(const PointSet &p) {
+    return torch::from_blob(const_cast<float *>(p.values.data()), {int64_t(p.size()), int64_t(p.n_columns())},
+                            torch::kFloat32)
+        .clone();
+}
+}  // namespace
+
+LoadedModel load_model(const std::string &path) {
+    LoadedModel m;
+    m.path = path;
+    m.model = load_weights(path, &m.metadata);
+    m.model->eval();
+    return m;
+}
+
+std::vector<std::string> scene_range_warnings(const Scene &scene) {
+    // The generator's houses (configs/gen/indoor.json): footprints 2.5–11.2 m, ceilings 2.5–3.2 m.
+    std::vector<std::string> w;
+    const Vec3f e = scene.bounds().extent();
+    const float horizontal = std::max(e.x, e.z);
+    if (horizontal > 14.f || horizontal < 1.5f || e.y > 4.f || e.y < 1.5f)
+        w.push_back(detail::concat("scene extent ", e.x, " x ", e.y, " x ", e.z,
+                           " m is outside the training range (footprint 2.5-11.2 m, height 2.5-3.2 m, y up): "
+                           "expect larger errors"));
+    return w;
+}
+
+EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed) {
+    EncodedScene enc;
+    auto t = Clock::now();
+    SampleFilter filter;
+    if (exclude_enclosed) filter = enclosed_filter(accel);
+    const PointSet sp = to_scene_points(
+        sample_surface(accel.scene(), model->cfg.scene_points, seed, SampleStream::scene_points, filter));
+    const auto points = to_tensor(sp);
+    enc.n_scene_points = points.size(0);
+    enc.sample_seconds = seconds_since(t);
+    t = Clock::now();
+    const SceneGeometry g = model->scene_geometry(points);
+    enc.geometry_seconds = seconds_since(t);
+    t = Clock::now();
+    {
+        torch::NoGradGuard no_grad;
+        model->eval();
+        enc.latents = model->encode(points, g);
+    }
+    enc.encode_seconds = seconds_since(t);
+    return enc;
+}
+
+std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {
+    const int64_t n = int64_t(gb.n_hits());
+    std::vector<Vec3f> out(static_cast<size_t>(n));
+    if (n == 0) return out;
+    // Query points [n, 9]: p, n (facing the eye), albedo, as in the dataset's query_point_columns().
+    auto q = torch::empty({n, 9});
+    float *qp = q.data_ptr<float>();
+    for (int64_t k = 0; k < n; ++k) {
+        const Vec3f *cols[3] = {&gb.position[size_t(k)], &gb.normal[size_t(k)], &gb.albedo[size_t(k)]};
+        for (int c = 0; c < 3; ++c) {
+            qp[k * 9 + c * 3 + 0] = cols[c]->x;
+            qp[k * 9 + c * 3 + 1] = cols[c]->y;
+            qp[k * 9 + c * 3 + 2] = cols[c]->z;
+        }
+    }
+    const auto e = model->predict_irradiance(q, enc.latents, 16384, timings).contiguous();
+    TORCH_CHECK(e.sizes() == torch::IntArrayRef({n, 3}), "predict_gbuffer: model returned ", e.sizes());
+    const float *ep = e.data_ptr<float>();
+    for (int64_t k = 0; k < n; ++k) out[size_t(k)] = {ep[k * 3], ep[k * 3 + 1], ep[k * 3 + 2]};
+    return out;
+}
+
+OrderedJson NeuralTimings::to_json() const {
+    return {{"gbuffer_s", gbuffer}, {"sample_s", sample}, {"geometry_s", geometry}, {"encode_s", encode},
+            {"knn_s", knn},         {"decode_s", decode}, {"direct_s", direct},     {"model_s", model()},
+            {"total_s", total}};
+}
+
+NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, int direct_spp, uint64_t seed,
+                           bool exclude_enclosed) {
+    if (direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", direct_spp);
+    NeuralRender r;
+    const auto t0 = Clock::now();
+    auto t = Clock::now();
+    const EncodedScene enc = encode_scene(model, pt.accel(), seed, exclude_enclosed);
+    r.timings.sample = enc.sample_seconds, r.timings.geometry = enc.geometry_seconds, r.timings.encode = enc.encode_seconds;
+    t = Clock::now();
+    const GBuffer gb = render_gbuffer(pt.accel(), camera);
+    r.timings.gbuffer = seconds_since(t);
+    PredictTimings pt_times;
+    const Image indirect = scatter_to_image(gb, predict_gbuffer(model, enc, gb, &pt_times));
+    r.timings.knn = pt_times.knn, r.timings.decode = pt_times.decode;
+    const IrradianceImages direct = irradiance_images(pt, gb, direct_spp, /*with_indirect=*/false);
+    r.timings.direct = direct.seconds;
+    r.image = compose_image(gb, direct.direct, indirect, &r.n_conductor);
+    r.timings.total = seconds_since(t0);
+    r.image.seconds = r.timings.total;
+    r.n_queries = int64_t(gb.n_hits());
+    r.n_scene_points = enc.n_scene_points;
+    return r;
+}
+
+}  // namespace ltm
