@@ -4,6 +4,7 @@
 # .devdeps/debs (fetched on the dev machine with `apt-get download`, see docs/performance.md) and
 # are unpacked into a private prefix; libtorch is the one inside the pip torch package.
 #
+#   scripts/device/ltm-gpu.sh fetch            (dev machine) apt-get download the packages into .devdeps/debs
 #   scripts/device/ltm-gpu.sh setup            unpack, configure, build ltm + gpu_tests (build-cuda/)
 #   scripts/device/ltm-gpu.sh bake A:B         dataset build of seeds A..B-1 in the background (setsid)
 #   scripts/device/ltm-gpu.sh train STEPS      training on what is baked, in the background (setsid)
@@ -27,6 +28,19 @@ env_setup() {
   TORCH_PREFIX=$(python3 -c 'import torch; print(torch.utils.cmake_prefix_path)')
   TORCH_LIB=$(python3 -c 'import torch, os; print(os.path.join(os.path.dirname(torch.__file__), "lib"))')
   export LD_LIBRARY_PATH=$TORCH_LIB:$LD_LIBRARY_PATH
+}
+
+# The Debian packages the GPU machine lacks: headers + libraries + their CMake configs.
+DEBS=(libcli11-dev libembree-dev libembree3-3 libfmt-dev libfmt9 libgmock-dev libgtest-dev libimath-3-1-29
+      libimath-dev libnanoflann-dev libopenexr-3-1-30 libopenexr-dev libspdlog-dev libspdlog1.10 libstb-dev libstb0
+      libtbb-dev libtbb12 libtbbbind-2-5 libtbbmalloc2 libtinyobjloader-dev libtinyobjloader2rc10
+      nlohmann-json3-dev pkgconf pkgconf-bin libpkgconf3 zlib1g-dev zlib1g)
+
+cmd_fetch() {
+  mkdir -p .devdeps/debs
+  grep -qx '/.devdeps/' .git/info/exclude 2>/dev/null || echo '/.devdeps/' >> .git/info/exclude
+  (cd .devdeps/debs && apt-get download "${DEBS[@]}")
+  du -sh .devdeps/debs
 }
 
 cmd_setup() {
@@ -116,6 +130,7 @@ cmd_collect() {
 }
 
 case "${1:-}" in
+  fetch) cmd_fetch ;;
   setup) cmd_setup ;;
   bake) cmd_bake "$2" ;;
   train) cmd_train "$2" "${3:-}" ;;
@@ -123,5 +138,5 @@ case "${1:-}" in
   bench) cmd_bench "$2" ;;
   status) cmd_status ;;
   collect) cmd_collect ;;
-  *) echo "usage: $0 setup|bake A:B|train STEPS [key=value]|status|collect" >&2; exit 2 ;;
+  *) echo "usage: $0 fetch|setup|bake A:B|train STEPS [key=value]|status|collect" >&2; exit 2 ;;
 esac

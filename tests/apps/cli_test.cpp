@@ -206,5 +206,10 @@ TEST(Cli, NeuralRenderAndEvalSmoke) {
     EXPECT_FALSE(std::filesystem::exists(dir.path("b.png")));
     r = run({"render", scene, "--method", "neural", "-o", dir.path("b")});
     EXPECT_EQ(r.code, 1);
+    // A scene unlike the training distribution renders, with a warning that names the range.
+    r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", weights, "--width", "16", "--height",
+             "16", "--direct-spp", "1", "-o", dir.path("cb")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("outside the training range"), std::string::npos) << r.err;
 }
 #endif
