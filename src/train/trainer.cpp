@@ -33,6 +33,9 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     c.val_scenes = o.get_int("val_scenes", c.val_scenes);
     c.val_queries = o.get_int("val_queries", c.val_queries);
     c.val_every = o.get_int("val_every", c.val_every);
+    c.select_by = o.get_string("select_by", c.select_by);
+    if (c.select_by != "val_loss" && c.select_by != "val_mse_log")
+        LTM_THROW(o.where("select_by"), ": '", c.select_by, "' is not one of val_loss, val_mse_log");
     c.ckpt_every = o.get_int("ckpt_every", c.ckpt_every);
     c.log_every = o.get_int("log_every", c.log_every);
     c.seed = uint64_t(o.get_int("seed", int(c.seed)));
@@ -48,7 +51,7 @@ OrderedJson TrainConfig::to_json() const {
     return {{"steps", steps}, {"batch_queries", batch_queries}, {"lr", json_float(lr)}, {"min_lr_ratio", json_float(min_lr_ratio)},
             {"warmup_steps", warmup_steps}, {"weight_decay", json_float(weight_decay)}, {"grad_clip", json_float(grad_clip)},
             {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
-            {"val_queries", val_queries}, {"val_every", val_every}, {"ckpt_every", ckpt_every},
+            {"val_queries", val_queries}, {"val_every", val_every}, {"select_by", select_by}, {"ckpt_every", ckpt_every},
             {"log_every", log_every}, {"seed", seed}};
 }
 
@@ -233,8 +236,9 @@ void Trainer::run(bool resume, int64_t stop_at) {
                 << std::flush;
             log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, " (", m_val_paths.size(),
                      " held-out scenes)");
-            if (std::isfinite(v) && v < m_best_val) {
-                m_best_val = v;
+            const double score = m_cfg.select_by == "val_mse_log" ? m_val_mse_log : v;
+            if (std::isfinite(score) && score < m_best_val) {
+                m_best_val = score;
                 save(best);
             }
         }

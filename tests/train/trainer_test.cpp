@@ -107,3 +107,14 @@ TEST(Trainer, TinyModelOverfitsOneScene) {
     }
     std::cout << "\n";
 }
+
+// configs/train/default.json documents the built-in defaults: they must not drift apart.
+TEST(Trainer, DefaultConfigFileEqualsBuiltInDefaults) {
+    const std::string path = test::source_path("configs/train/default.json");
+    EXPECT_EQ(TrainConfig::from_json(parse_json_file(path), path).to_json().dump(), TrainConfig{}.to_json().dump());
+    Json j = TrainConfig{}.to_json();
+    j["select_by"] = "psnr";
+    EXPECT_THROW(TrainConfig::from_json(j, "t"), Error);
+    j["select_by"] = "val_mse_log";
+    EXPECT_EQ(TrainConfig::from_json(j, "t").select_by, "val_mse_log");
+}

@@ -28,6 +28,9 @@ struct TrainConfig {
     int val_scenes = 8;           ///< at most this many held-out scenes are evaluated
     int val_queries = 8192;       ///< first queries of each validation scene
     int val_every = 250;          ///< steps between validations (and best-checkpoint updates)
+    /// What "best" means: "val_loss" (the training loss on held-out scenes) or "val_mse_log"
+    /// (MSE of log1p(E⁺)); the relative loss can rise from a few dark points while the images improve.
+    std::string select_by = "val_loss";
     int ckpt_every = 250;         ///< steps between last.ltmckpt writes
     int log_every = 10;           ///< steps between JSONL log lines
     uint64_t seed = 0;            ///< everything random is a function of (seed, step)
