@@ -75,7 +75,9 @@ Command make_eval_command() {
         const EvalReport r = run_evaluation(scenes, models, opt);
         if (r.views.empty()) LTM_THROW("eval: no view saw any surface");
         OrderedJson j = r.to_json();
-        j["command"] = "ltm eval --model " + a->model;   // the rest is in options
+        j["model"] = a->model;
+        j["ablations"] = a->ablations;
+        j["scenes"] = a->scenes;
         j["threads"] = common.threads;
         write_file_atomic(a->output + "/report.json", j.dump(2) + "\n");
         const std::string table = r.table_markdown();

@@ -98,10 +98,9 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     if (direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", direct_spp);
     NeuralRender r;
     const auto t0 = Clock::now();
-    auto t = Clock::now();
     const EncodedScene enc = encode_scene(model, pt.accel(), seed, exclude_enclosed);
     r.timings.sample = enc.sample_seconds, r.timings.geometry = enc.geometry_seconds, r.timings.encode = enc.encode_seconds;
-    t = Clock::now();
+    const auto t = Clock::now();
     const GBuffer gb = render_gbuffer(pt.accel(), camera);
     r.timings.gbuffer = seconds_since(t);
     PredictTimings pt_times;
