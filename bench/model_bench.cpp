@@ -12,6 +12,7 @@
 #include "ltm/core/startup.h"
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
+#include "ltm/nn/point_tensor.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/procgen/indoor_generator.h"
@@ -23,7 +24,7 @@ torch::Tensor points(int64_t n, SampleStream stream, bool scene) {
     static const Scene s = generate_indoor(GenConfig{}, 7).scene;
     const auto x = sample_surface(s, n, 1, stream);
     const PointSet p = scene ? to_scene_points(x) : to_query_points(x);
-    return torch::from_blob(const_cast<float *>(p.values.data()), {n, int64_t(p.n_columns())}).clone();
+    return point_tensor(p);
 }
 ModelConfig preset(const std::string &name) { return ModelConfig::from_file(std::string(LTM_SOURCE_DIR) + "/configs/model/" + name + ".json"); }
 double mb(size_t bytes) { return double(bytes) / double(1 << 20); }

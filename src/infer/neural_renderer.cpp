@@ -6,6 +6,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/nn/checkpoint.h"
+#include "ltm/nn/point_tensor.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/render/enclosure.h"
 
@@ -14,12 +15,6 @@ namespace ltm {
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-torch::Tensor to_tensor(const PointSet &p) {
-    return torch::from_blob(const_cast<float *>(p.values.data()), {int64_t(p.size()), int64_t(p.n_columns())},
-                            torch::kFloat32)
-        .clone();
-}
 }  // namespace
 
 LoadedModel load_model(const std::string &path) {
@@ -49,7 +44,7 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
     if (exclude_enclosed) filter = enclosed_filter(accel);
     const PointSet sp = to_scene_points(
         sample_surface(accel.scene(), model->cfg.scene_points, seed, SampleStream::scene_points, filter));
-    const auto points = to_tensor(sp);
+    const auto points = point_tensor(sp);
     enc.n_scene_points = points.size(0);
     enc.sample_seconds = seconds_since(t);
     t = Clock::now();

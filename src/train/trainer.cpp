@@ -13,6 +13,7 @@
 #include "ltm/core/log.h"
 #include "ltm/core/rng.h"
 #include "ltm/nn/checkpoint.h"
+#include "ltm/nn/point_tensor.h"
 
 namespace fs = std::filesystem;
 
@@ -105,16 +106,13 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
         const auto &r = c->record;
         if (int(r.scene_points.size()) != m_model_cfg.scene_points)
             LTM_THROW(path, ": ", r.scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points);
-        auto to_tensor = [&](const std::vector<float> &v, int64_t cols) {
-            return torch::from_blob(const_cast<float *>(v.data()), {int64_t(v.size()) / cols, cols}, torch::kFloat32).clone();
-        };
-        const auto sp = to_tensor(r.scene_points.values, 12);
+        const auto sp = point_tensor(r.scene_points);
         c->geometry = m_model->scene_geometry(sp);   // FPS + kNN once per scene (CPU), cached
         c->geometry.centers = c->geometry.centers.to(m_device);
         c->geometry.groups = c->geometry.groups.to(m_device);
         c->scene_points = sp.to(m_device);
-        c->query_points = to_tensor(r.query_points.values, 9).to(m_device);
-        c->target = to_tensor(r.e_indirect, 3).to(m_device);
+        c->query_points = point_tensor(r.query_points).to(m_device);
+        c->target = rows_tensor(r.e_indirect, 3).to(m_device);
         slot = std::move(c);
     }
     return *slot;

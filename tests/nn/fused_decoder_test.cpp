@@ -5,6 +5,7 @@
 
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/ltm_model.h"
+#include "ltm/nn/point_tensor.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "test_util.h"
@@ -105,12 +106,9 @@ TEST(FusedDecoder, PredictIrradianceMatchesLibtorchPath) {
     LtmModel model(cfg);
     randomise(*model->decoder);
     model->eval();
-    const auto to_tensor = [](const PointSet &p) {
-        return torch::from_blob(const_cast<float *>(p.values.data()), {int64_t(p.size()), int64_t(p.n_columns())}).clone();
-    };
     const Scene scene = quad_light_room();
-    const auto sp = to_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 1, SampleStream::scene_points)));
-    const auto qp = to_tensor(to_query_points(sample_surface(scene, 700, 1, SampleStream::query_points)));
+    const auto sp = point_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 1, SampleStream::scene_points)));
+    const auto qp = point_tensor(to_query_points(sample_surface(scene, 700, 1, SampleStream::query_points)));
     torch::NoGradGuard no_grad;
     const SceneLatents lat = model->encode(sp, model->scene_geometry(sp));
     const auto fused = model->predict_irradiance(qp, lat, /*chunk=*/256);

@@ -6,6 +6,7 @@
 #include "ltm/core/error.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/ltm_model.h"
+#include "ltm/nn/point_tensor.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "test_util.h"
@@ -13,14 +14,11 @@
 using namespace ltm;
 
 namespace {
-torch::Tensor to_tensor(const PointSet &p) {
-    return torch::from_blob(const_cast<float *>(p.values.data()), {int64_t(p.size()), int64_t(p.n_columns())}).clone();
-}
 struct Fixture {
     ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
     Scene scene = quad_light_room();
-    torch::Tensor sp = to_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 1, SampleStream::scene_points)));
-    torch::Tensor qp = to_tensor(to_query_points(sample_surface(scene, 300, 1, SampleStream::query_points)));
+    torch::Tensor sp = point_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 1, SampleStream::scene_points)));
+    torch::Tensor qp = point_tensor(to_query_points(sample_surface(scene, 300, 1, SampleStream::query_points)));
 };
 }  // namespace
 
