@@ -1,4 +1,4 @@
-// cmd_train.cpp: `ltm train --model configs/model/cpu.json --data DIR --out runs/NAME [--resume]`.
+// cmd_train.cpp: `ltm train --model configs/model/cpu.json --data DIR [--data DIR2 ...] --out runs/NAME [--resume]`.
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -12,8 +12,8 @@ namespace ltm::cli {
 
 namespace {
 struct TrainArgs {
-    std::string model, data, out, config, init, device = "cpu";
-    std::vector<std::string> overrides;
+    std::string model, out, config, init, device = "cpu";
+    std::vector<std::string> data, overrides;
     bool resume = false;
     int steps = -1;
 };
@@ -26,7 +26,7 @@ Command make_train_command() {
     c.help = "Train the light transport model on a dataset (checkpoints, validation, exact resume)";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
         sub.add_option("--model", a->model, "Model config (configs/model/{tiny,cpu,paper}.json)")->required();
-        sub.add_option("--data", a->data, "Dataset directory (ltm dataset build)")->required();
+        sub.add_option("--data", a->data, "Dataset directory (ltm dataset build); repeat to train on several")->required();
         sub.add_option("--out", a->out, "Run directory: log.jsonl, last/best.ltmckpt")->required();
         sub.add_option("--config", a->config, "Training config JSON (default: built-in defaults, configs/train/default.json)");
         sub.add_option("--set", a->overrides, "Override a training key, e.g. --set lr=5e-4");

@@ -105,6 +105,21 @@ std::vector<std::string> list_records(const std::string &dir) {
     return out;
 }
 
+std::vector<std::string> list_records(const std::vector<std::string> &dirs) {
+    if (dirs.empty()) LTM_THROW("no dataset directory given");
+    std::vector<std::pair<std::string, std::string>> named;   // (file name = seed order, path)
+    for (const auto &dir : dirs)
+        for (auto &path : list_records(dir)) named.emplace_back(fs::path(path).filename().string(), std::move(path));
+    std::sort(named.begin(), named.end());
+    std::vector<std::string> out;
+    for (size_t i = 0; i < named.size(); ++i) {
+        if (i > 0 && named[i].first == named[i - 1].first)
+            LTM_THROW(named[i].second, ": seed also present as ", named[i - 1].second, " (one record per seed)");
+        out.push_back(std::move(named[i].second));
+    }
+    return out;
+}
+
 namespace {
 SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed, bool test) {
     using clock = std::chrono::steady_clock;

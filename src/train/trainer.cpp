@@ -63,11 +63,11 @@ double learning_rate(const TrainConfig &c, int64_t step) {
     return lo + (double(c.lr) - lo) * 0.5 * (1.0 + std::cos(3.14159265358979323846 * std::min(1.0, t)));
 }
 
-Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::string &data_dir,
+Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::vector<std::string> &data_dirs,
                  const std::string &out_dir, torch::Device device)
     : m_model_cfg(model_cfg), m_cfg(cfg), m_out(out_dir), m_device(device) {
-    const auto records = list_records(data_dir);
-    if (records.empty()) LTM_THROW(data_dir, ": no dataset records (scene-*.safetensors)");
+    const auto records = list_records(data_dirs);
+    if (records.empty()) LTM_THROW(data_dirs.front(), ": no dataset records (scene-*.safetensors)");
     size_t n_val = size_t(std::floor(double(records.size()) * double(cfg.val_fraction)));
     if (cfg.val_fraction > 0.f && records.size() >= 2) n_val = std::max<size_t>(1, n_val);
     m_train_paths.assign(records.begin(), records.end() - std::ptrdiff_t(n_val));

@@ -49,6 +49,26 @@ TEST(Dataset, BuildWritesRecordsAndSkipsExistingOnes) {
     EXPECT_NE(read_file(opt.out_dir + "/manifest.json").find("scene-000005.safetensors"), std::string::npos);
 }
 
+// Several directories (e.g. two presets) merge into one seed-ordered list; a seed twice is an error.
+TEST(Dataset, RecordsOfSeveralDirectoriesMergeBySeed) {
+    test::TempDir dir;
+    const std::string a = dir.path("a"), b = dir.path("b");
+    std::filesystem::create_directories(a);
+    std::filesystem::create_directories(b);
+    for (uint64_t s : {0, 7, 12}) write_file_atomic(a + "/" + record_file_name(s), "x");
+    for (uint64_t s : {3, 100}) write_file_atomic(b + "/" + record_file_name(s), "x");
+    write_file_atomic(b + "/manifest.json", "{}");
+    const auto all = list_records(std::vector<std::string>{a, b});
+    std::vector<std::string> names;
+    for (const auto &p : all) names.push_back(std::filesystem::path(p).filename().string());
+    EXPECT_EQ(names, (std::vector<std::string>{record_file_name(0), record_file_name(3), record_file_name(7),
+                                               record_file_name(12), record_file_name(100)}));
+    EXPECT_EQ(std::filesystem::path(all[1]).parent_path().string(), b);
+    write_file_atomic(b + "/" + record_file_name(7), "x");
+    EXPECT_THROW(list_records(std::vector<std::string>{a, b}), Error);
+    EXPECT_THROW(list_records(std::vector<std::string>{}), Error);
+}
+
 TEST(Dataset, ForeignOrCorruptRecordsAreErrors) {
     test::TempDir dir;
     SafetensorsFile f;

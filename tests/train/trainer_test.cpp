@@ -57,11 +57,11 @@ TEST(Trainer, LearningRateWarmsUpThenDecays) {
 TEST(Trainer, ResumeRepeatsTheUninterruptedLossSequence) {
     test::TempDir dir;
     const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
-    Trainer full(mc, small_train(6), dataset_dir(), dir.path("full"));
+    Trainer full(mc, small_train(6), {dataset_dir()}, dir.path("full"));
     full.run(false);
-    Trainer first(mc, small_train(6), dataset_dir(), dir.path("split"));
+    Trainer first(mc, small_train(6), {dataset_dir()}, dir.path("split"));
     first.run(false, /*stop_at=*/3);
-    Trainer second(mc, small_train(6), dataset_dir(), dir.path("split"));
+    Trainer second(mc, small_train(6), {dataset_dir()}, dir.path("split"));
     second.run(true);
     ASSERT_EQ(full.history().size(), 6u);
     ASSERT_EQ(first.history().size() + second.history().size(), 6u);
@@ -69,7 +69,7 @@ TEST(Trainer, ResumeRepeatsTheUninterruptedLossSequence) {
         const double resumed = i < 3 ? first.history()[i].loss : second.history()[i - 3].loss;
         EXPECT_EQ(full.history()[i].loss, resumed) << "step " << i;
     }
-    EXPECT_THROW(Trainer(mc, small_train(6), dataset_dir(), dir.path("full")).run(false), Error);   // would overwrite
+    EXPECT_THROW(Trainer(mc, small_train(6), {dataset_dir()}, dir.path("full")).run(false), Error);   // would overwrite
 }
 
 // The tiny model memorises one scene: the loss falls at least 10× within a minute.
@@ -90,7 +90,7 @@ TEST(Trainer, TinyModelOverfitsOneScene) {
     rec.e_indirect.resize(256 * 3);
     write_record(one + "/" + record_file_name(rec.seed), rec);
     t.batch_queries = 256;
-    Trainer trainer(mc, t, one, dir.path("run"));
+    Trainer trainer(mc, t, {one}, dir.path("run"));
     const auto t0 = std::chrono::steady_clock::now();
     trainer.run(false);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -47,6 +47,9 @@ void write_record(const std::string &path, const SceneRecord &rec);
 SceneRecord read_record(const std::string &path);
 /// Record files of a dataset directory, sorted by seed.
 std::vector<std::string> list_records(const std::string &dir);
+/// Record files of several dataset directories (e.g. presets baked at different query counts),
+/// merged and sorted by seed; a seed present in two directories is an error naming both files.
+std::vector<std::string> list_records(const std::vector<std::string> &dirs);
 
 struct BuildOptions {
     DataPreset preset;

@@ -50,9 +50,10 @@ struct TrainStepLog {
 
 class Trainer {
 public:
-    /// Records are split into train/validation by seed; out_dir receives log.jsonl,
-    /// last.ltmckpt, best.ltmckpt, model.json and train.json.
-    Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::string &data_dir, const std::string &out_dir,
+    /// Records of all data_dirs are split into train/validation by seed (the highest seeds
+    /// validate); out_dir receives log.jsonl, last.ltmckpt, best.ltmckpt, model.json and train.json.
+    Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::vector<std::string> &data_dirs,
+            const std::string &out_dir,
             torch::Device device = torch::kCPU);
     /// Starts from exported weights (fine-tuning; the optimizer starts fresh). The weights'
     /// config must equal the model config.
