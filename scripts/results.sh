@@ -5,6 +5,7 @@
 #   2. Edits without retraining: one held-out scene, then the same scene with a light moved, an
 #      object moved, and the walls' albedo changed; each evaluated against path tracing of itself.
 #   3. View consistency: two views of one scene (the same model, the same latents).
+# References are kept in OUT_DIR/ref-cache: a re-run with another model renders none of them again.
 # Usage: scripts/results.sh [OUT_DIR]   (MODEL, ABLATION=name=weights, BUILD override)
 set -euo pipefail
 BUILD=${BUILD:-build}
@@ -14,12 +15,12 @@ OUT=${1:-results}
 abl=()
 [[ -n "${ABLATION:-}" ]] && abl=(--ablation "$ABLATION")
 mkdir -p "$OUT/edits"
-"$LTM" eval --model "$MODEL" "${abl[@]}" --scenes 900100:900150 --width 96 --height 96 --ref-spp 2048 -o "$OUT/table1"
+"$LTM" eval --model "$MODEL" "${abl[@]}" --scenes 900100:900150 --width 96 --height 96 --ref-spp 2048 --ref-cache "$OUT/ref-cache" -o "$OUT/table1"
 "$LTM" generate --seed 900007 -o "$OUT/edits/base.json"
 "$LTM" edit "$OUT/edits/base.json" --move light0=-1.3,0,1.6 -o "$OUT/edits/light-moved.json"
 "$LTM" edit "$OUT/edits/base.json" --move table0=-0.6,0,0.6 -o "$OUT/edits/table-moved.json"
 "$LTM" edit "$OUT/edits/base.json" --albedo room0_walls=0.85,0.15,0.1 -o "$OUT/edits/red-walls.json"
 "$LTM" eval --model "$MODEL" --scenes "$OUT"/edits/{base,light-moved,table-moved,red-walls}.json \
-    --width 160 --height 160 --ref-spp 1024 -o "$OUT/edits/eval"
+    --width 160 --height 160 --ref-spp 1024 --ref-cache "$OUT/ref-cache" -o "$OUT/edits/eval"
 "$LTM" eval --model "$MODEL" --scenes examples/indoor-900012/scene.json --views 2 --width 160 --height 160 \
-    --ref-spp 1024 -o "$OUT/views"
+    --ref-spp 1024 --ref-cache "$OUT/ref-cache" -o "$OUT/views"

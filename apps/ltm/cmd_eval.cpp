@@ -40,6 +40,8 @@ Command make_eval_command() {
         sub.add_option("--height", a->opt.height, "View height")->capture_default_str()->check(CLI::Range(16, 4096));
         sub.add_option("--ref-spp", a->opt.ref_spp, "Reference samples per pixel")->capture_default_str();
         sub.add_option("--baseline-spp", a->opt.baseline_spp, "PT baseline samples per pixel (paper: 64)")->capture_default_str();
+        sub.add_option("--ref-cache", a->opt.ref_cache_dir,
+                       "Keep references in this directory and reuse them when scene, view, spp and seed match");
         sub.add_flag("--no-grids", a->no_grids, "Skip the PNG grids");
         sub.add_option("-o,--output", a->output, "Output directory")->required();
     };

@@ -10,6 +10,7 @@
 #include "ltm/core/log.h"
 #include "ltm/core/rng.h"
 #include "ltm/eval/image_grid.h"
+#include "ltm/eval/reference_cache.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/render/gbuffer.h"
 
@@ -57,6 +58,29 @@ std::vector<std::string> method_order(const EvalReport &r) {
     return out;
 }
 
+// The reference E⁺ of one view: from the cache when it holds this exact reference, otherwise
+// rendered (and stored, if a cache is given). Only .indirect and .seconds are filled from the cache.
+IrradianceImages reference_images(const EvalScene &es, const Camera &cam, const GBuffer &gb, const PathTracer &pt,
+                                  const PathTracerConfig &cfg, const EvalOptions &opt, ViewResult *vr) {
+    IrradianceImages ref;
+    const std::string key = opt.ref_cache_dir.empty() ? "" : reference_cache_key(es.scene, cam, opt.ref_spp, cfg);
+    if (!key.empty()) {
+        if (auto cached = load_cached_reference(opt.ref_cache_dir, key, cam.width, cam.height)) {
+            ref.indirect = std::move(cached->indirect);
+            ref.seconds = vr->reference_seconds = cached->seconds;
+            vr->reference_cached = true;
+            return ref;
+        }
+    }
+    ref = irradiance_images(pt, gb, opt.ref_spp, true);
+    vr->reference_seconds = ref.seconds;
+    if (!key.empty())
+        store_cached_reference(opt.ref_cache_dir, key, {ref.indirect, ref.seconds},
+                               {{"scene", es.name}, {"view", cam.name}, {"width", cam.width}, {"height", cam.height},
+                                {"spp", opt.ref_spp}});
+    return ref;
+}
+
 }  // namespace
 
 EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<EvalModel> &models, const EvalOptions &opt) {
@@ -89,8 +113,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             ViewResult vr;
             vr.scene = es.name, vr.view = cam.name, vr.pixels = int64_t(gb.n_hits());
             log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
-            const IrradianceImages ref = irradiance_images(pt_ref, gb, opt.ref_spp, true);
-            vr.reference_seconds = ref.seconds;
+            const IrradianceImages ref = reference_images(es, cam, gb, pt_ref, tracer_config(1), opt, &vr);
             std::vector<Image> model_images;
             double first_model_seconds = 0;
             for (size_t mi = 0; mi < models.size(); ++mi) {
@@ -168,7 +191,7 @@ OrderedJson EvalReport::to_json() const {
         for (const auto &m : v.methods)
             mj.push_back({{"method", m.method}, {"metrics", metrics_json(m.metrics)}, {"seconds", m.seconds}, {"spp", m.spp}});
         vs.push_back({{"scene", v.scene}, {"view", v.view}, {"pixels", v.pixels},
-                      {"reference_seconds", v.reference_seconds}, {"methods", mj}});
+                      {"reference_seconds", v.reference_seconds}, {"reference_cached", v.reference_cached}, {"methods", mj}});
     }
     j["views"] = vs;
     return j;

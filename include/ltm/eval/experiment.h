@@ -22,6 +22,7 @@ struct EvalOptions {
     uint64_t seed = 0;
     bool exclude_enclosed = true;    ///< scene-point sampling as in the dataset
     std::string out_dir;             ///< grids go here (empty: no images)
+    std::string ref_cache_dir;       ///< reuse/keep references here (eval/reference_cache.h; empty: off)
 };
 
 struct EvalModel {
@@ -44,7 +45,8 @@ struct MethodResult {
 struct ViewResult {
     std::string scene, view;
     int64_t pixels = 0;             ///< pixels with a surface
-    double reference_seconds = 0;
+    double reference_seconds = 0;   ///< when it was rendered (also if it came from the cache)
+    bool reference_cached = false;
     std::vector<MethodResult> methods;
 };
 
