@@ -14,6 +14,7 @@
 #include "ltm/core/rng.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
+#include "ltm/train/augment.h"
 
 namespace fs = std::filesystem;
 
@@ -34,6 +35,7 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     c.val_scenes = o.get_int("val_scenes", c.val_scenes);
     c.val_queries = o.get_int("val_queries", c.val_queries);
     c.val_every = o.get_int("val_every", c.val_every);
+    c.augment = o.get_bool("augment", c.augment);
     c.select_by = o.get_string("select_by", c.select_by);
     if (c.select_by != "val_loss" && c.select_by != "val_mse_log")
         LTM_THROW(o.where("select_by"), ": '", c.select_by, "' is not one of val_loss, val_mse_log");
@@ -52,7 +54,7 @@ OrderedJson TrainConfig::to_json() const {
     return {{"steps", steps}, {"batch_queries", batch_queries}, {"lr", json_float(lr)}, {"min_lr_ratio", json_float(min_lr_ratio)},
             {"warmup_steps", warmup_steps}, {"weight_decay", json_float(weight_decay)}, {"grad_clip", json_float(grad_clip)},
             {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
-            {"val_queries", val_queries}, {"val_every", val_every}, {"select_by", select_by}, {"ckpt_every", ckpt_every},
+            {"val_queries", val_queries}, {"val_every", val_every}, {"augment", augment}, {"select_by", select_by}, {"ckpt_every", ckpt_every},
             {"log_every", log_every}, {"seed", seed}};
 }
 
@@ -134,13 +136,17 @@ TrainStepLog Trainer::train_step() {
     for (auto &p : pick) p = int64_t(q_rng.next_below(uint32_t(nq)));
     const auto idx = torch::tensor(pick, torch::kInt64).to(m_device);
     torch::manual_seed(hash_keys({m_cfg.seed, 0x0dde5ull, uint64_t(t)}) >> 1);   // PTv3 order shuffles
+    // One of the 8 horizontal symmetries per step (train/augment.h): targets and cached FPS/kNN stay valid.
+    const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, uint64_t(t)}) % k_n_symmetries) : 0;
+    const auto scene_points = apply_symmetry(sc.scene_points, sym);
+    const auto queries = apply_symmetry(sc.query_points.index_select(0, idx), sym);
 
     const double lr = learning_rate(m_cfg, t);
     for (auto &group : m_opt->param_groups()) static_cast<torch::optim::AdamWOptions &>(group.options()).lr(lr);
     m_model->train();
     m_opt->zero_grad();
-    const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry);
-    const auto z = m_model->decode(sc.query_points.index_select(0, idx), lat);
+    const SceneLatents lat = m_model->encode(scene_points, sc.geometry);
+    const auto z = m_model->decode(queries, lat);
     const auto loss = relative_l2_log_loss(z, sc.target.index_select(0, idx), m_cfg.loss_eps);
     TrainStepLog log{t, loss.item<double>(), lr, 0.0, false};
     if (!std::isfinite(log.loss)) {

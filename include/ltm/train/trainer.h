@@ -28,6 +28,9 @@ struct TrainConfig {
     int val_scenes = 8;           ///< at most this many held-out scenes are evaluated
     int val_queries = 8192;       ///< first queries of each validation scene
     int val_every = 250;          ///< steps between validations (and best-checkpoint updates)
+    /// Each step sees its scene turned by k·90° about +y and/or mirrored (train/augment.h): 8× the
+    /// scene configurations for the same records. Validation never is.
+    bool augment = true;
     /// What "best" means: "val_loss" (the training loss on held-out scenes) or "val_mse_log"
     /// (MSE of log1p(E⁺)); the relative loss can rise from a few dark points while the images improve.
     std::string select_by = "val_loss";
