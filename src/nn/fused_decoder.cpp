@@ -281,8 +281,14 @@ void attend(const Weights &w, const FusedDecoder::Block &blk, const float *c, co
 }
 
 // The whole decoder for rows ≤ k_tile queries.   query [rows, 9], idx [rows, κ]  ->  z [rows, 3]
-// flatten inlines every helper, so each target clone gets its own vectorised copy of them.
+// flatten inlines every helper, so each target clone gets its own vectorised copy of them. Clang
+// refuses flatten on a multiversioned function: there the helpers stay baseline code (correct,
+// slower); the shipped build is GCC's.
+#if defined(__clang__)
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
 __attribute__((flatten, target_clones("arch=x86-64-v3", "default")))
+#endif
 void decode_tile(const Weights &w, Scratch &s, const float *query, const float *anchors, const int64_t *idx,
                  int kappa, int rows, float *z) {
     const int d = w.dim, g_n = w.groups, n_ffn = 4 * d;
