@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
@@ -174,7 +175,9 @@ void build_dataset(const BuildOptions &opt) {
     for (uint64_t s : opt.seeds)
         if (!fs::exists(opt.out_dir + "/" + record_file_name(s))) todo.push_back(s);
     log_info("dataset: ", opt.seeds.size() - todo.size(), " of ", opt.seeds.size(), " records present, building ", todo.size());
-    Progress progress("dataset", std::max<uint64_t>(1, todo.size()), "scenes");
+    // Nothing to build: no progress bar (a "0/1 scenes" line would say something is missing).
+    std::optional<Progress> progress;
+    if (!todo.empty()) progress.emplace("dataset", todo.size(), "scenes");
     const LogLevel level = log_level();
     for (uint64_t seed : todo) {
         set_log_level(LogLevel::quiet);   // per-scene bake bars would drown the dataset bar
@@ -187,9 +190,9 @@ void build_dataset(const BuildOptions &opt) {
         }
         set_log_level(level);
         write_record(opt.out_dir + "/" + record_file_name(seed), r);
-        progress.add(1);
+        progress->add(1);
     }
-    progress.finish();
+    if (progress) progress->finish();
     // The manifest describes what is on disk (robust to shards finishing in any order).
     OrderedJson manifest;
     manifest["format"] = "ltm-dataset";
