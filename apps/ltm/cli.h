@@ -56,6 +56,7 @@ struct NeuralRenderArgs {
     int width = 0, height = 0, direct_spp = 16;
     float exposure = 1.f;
     bool exclude_enclosed = true;
+    int gi_stride = 1;   ///< decode Ê⁺ on every gi_stride-th pixel and interpolate (render/gi_upsample.h)
 };
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
 

@@ -42,6 +42,10 @@ Command make_eval_command() {
         sub.add_option("--baseline-spp", a->opt.baseline_spp, "PT baseline samples per pixel (paper: 64)")->capture_default_str();
         sub.add_option("--ref-cache", a->opt.ref_cache_dir,
                        "Keep references in this directory and reuse them when scene, view, spp and seed match");
+        sub.add_option("--gi-stride", a->opt.gi_stride,
+                       "Also evaluate each model with E+ decoded on every N-th pixel and interpolated (rows model:NAME/giN)")
+            ->capture_default_str()
+            ->check(CLI::Range(1, 16));
         sub.add_flag("--no-grids", a->no_grids, "Skip the PNG grids");
         sub.add_option("-o,--output", a->output, "Output directory")->required();
     };

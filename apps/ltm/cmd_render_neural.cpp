@@ -19,7 +19,9 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     PathTracerConfig cfg;
     cfg.seed = common.seed;
     const PathTracer pt(accel, cfg);
-    const NeuralRender r = render_neural(m.model, pt, cam, a.direct_spp, common.seed, a.exclude_enclosed);
+    GiUpsampleOptions gi;
+    gi.stride = a.gi_stride;
+    const NeuralRender r = render_neural(m.model, pt, cam, a.direct_spp, common.seed, a.exclude_enclosed, gi);
     if (r.n_conductor > 0)
         log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (the model predicts irradiance only)");
     write_rendered_image(r.image, a.prefix, a.exposure);
@@ -30,12 +32,14 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"width", cam.width},
                      {"height", cam.height},
                      {"queries", r.n_queries},
+                     {"gi_stride", a.gi_stride},
+                     {"decoded", r.n_decoded},
                      {"scene_points", r.n_scene_points},
                      {"direct_spp", a.direct_spp},
                      {"threads", common.threads},
                      {"timings", t.to_json()}};
     write_file_atomic(a.prefix + ".timings.json", j.dump(2) + "\n");
-    log_info("neural render ", cam.width, "x", cam.height, " (", r.n_queries, " queries, ", r.n_scene_points,
+    log_info("neural render ", cam.width, "x", cam.height, " (", r.n_queries, " queries, ", r.n_decoded, " decoded, ", r.n_scene_points,
              " scene points) in ", format_duration(t.total), ": encode ", format_duration(t.sample + t.geometry + t.encode),
              " (sample ", format_duration(t.sample), ", fps/knn ", format_duration(t.geometry), ", ptv3 ",
              format_duration(t.encode), "), g-buffer ", format_duration(t.gbuffer), ", knn ", format_duration(t.knn),

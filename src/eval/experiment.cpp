@@ -86,6 +86,7 @@ IrradianceImages reference_images(const EvalScene &es, const Camera &cam, const 
 EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<EvalModel> &models, const EvalOptions &opt) {
     if (opt.views < 1) LTM_THROW("eval: views must be >= 1, got ", opt.views);
     if (opt.ref_spp < 1 || opt.baseline_spp < 1) LTM_THROW("eval: samples per pixel must be >= 1");
+    if (opt.gi_stride < 1) LTM_THROW("eval: GI stride must be >= 1, got ", opt.gi_stride);
     using Clock = std::chrono::steady_clock;
     EvalReport report;
     report.options = opt;
@@ -127,6 +128,16 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 if (mi == 0) first_model_seconds = secs;
                 vr.methods.push_back({"model:" + models[mi].name, compare_images(pred, ref.indirect), secs, 0});
                 model_images.push_back(pred);
+                if (opt.gi_stride > 1) {
+                    GiUpsampleOptions gi;
+                    gi.stride = opt.gi_stride;
+                    const auto t1 = Clock::now();
+                    const Image up = scatter_to_image(gb, predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
+                    const double up_s = e.sample_seconds + e.geometry_seconds + e.encode_seconds +
+                                        std::chrono::duration<double>(Clock::now() - t1).count();
+                    vr.methods.push_back({"model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride),
+                                          compare_images(up, ref.indirect), up_s, 0});
+                }
             }
             const IrradianceImages b64 = irradiance_images(pt_64, gb, opt.baseline_spp, true);
             vr.methods.push_back({"pt" + std::to_string(opt.baseline_spp), compare_images(b64.indirect, ref.indirect),

@@ -60,26 +60,54 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
     return enc;
 }
 
-std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {
-    const int64_t n = int64_t(gb.n_hits());
+namespace {
+// Ê⁺ at the G-buffer hits listed in `hits` (all hits if null), in that order.
+std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
+                                const std::vector<size_t> *hits, PredictTimings *timings) {
+    const int64_t n = hits ? int64_t(hits->size()) : int64_t(gb.n_hits());
     std::vector<Vec3f> out(static_cast<size_t>(n));
     if (n == 0) return out;
     // Query points [n, 9]: p, n (facing the eye), albedo, as in the dataset's query_point_columns().
     auto q = torch::empty({n, 9});
     float *qp = q.data_ptr<float>();
     for (int64_t k = 0; k < n; ++k) {
-        const Vec3f *cols[3] = {&gb.position[size_t(k)], &gb.normal[size_t(k)], &gb.albedo[size_t(k)]};
+        const size_t h = hits ? (*hits)[size_t(k)] : size_t(k);
+        const Vec3f *cols[3] = {&gb.position[h], &gb.normal[h], &gb.albedo[h]};
         for (int c = 0; c < 3; ++c) {
             qp[k * 9 + c * 3 + 0] = cols[c]->x;
             qp[k * 9 + c * 3 + 1] = cols[c]->y;
             qp[k * 9 + c * 3 + 2] = cols[c]->z;
         }
     }
-    const auto e = model->predict_irradiance(q, enc.latents, 16384, timings).contiguous();
+    PredictTimings t;
+    const auto e = model->predict_irradiance(q, enc.latents, 16384, &t).contiguous();
     TORCH_CHECK(e.sizes() == torch::IntArrayRef({n, 3}), "predict_gbuffer: model returned ", e.sizes());
+    if (timings) timings->knn += t.knn, timings->decode += t.decode;
     const float *ep = e.data_ptr<float>();
     for (int64_t k = 0; k < n; ++k) out[size_t(k)] = {ep[k * 3], ep[k * 3 + 1], ep[k * 3 + 2]};
     return out;
+}
+}  // namespace
+
+std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {
+    if (timings) *timings = {};
+    return predict_hits(model, enc, gb, nullptr, timings);
+}
+
+std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
+                                             const Camera &camera, const GiUpsampleOptions &opt, PredictTimings *timings,
+                                             int64_t *n_decoded) {
+    if (opt.stride == 1) {
+        if (n_decoded) *n_decoded = int64_t(gb.n_hits());
+        return predict_gbuffer(model, enc, gb, timings);
+    }
+    if (timings) *timings = {};
+    const std::vector<size_t> lattice = lattice_hits(gb, opt.stride);
+    GiInterpolation r = interpolate_from_lattice(gb, camera, predict_hits(model, enc, gb, &lattice, timings), opt);
+    const std::vector<Vec3f> own = predict_hits(model, enc, gb, &r.needs_decode, timings);
+    for (size_t k = 0; k < own.size(); ++k) r.values[r.needs_decode[k]] = own[k];
+    if (n_decoded) *n_decoded = int64_t(lattice.size() + r.needs_decode.size());
+    return std::move(r.values);
 }
 
 OrderedJson NeuralTimings::to_json() const {
@@ -89,7 +117,7 @@ OrderedJson NeuralTimings::to_json() const {
 }
 
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, int direct_spp, uint64_t seed,
-                           bool exclude_enclosed) {
+                           bool exclude_enclosed, const GiUpsampleOptions &gi) {
     if (direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", direct_spp);
     NeuralRender r;
     const auto t0 = Clock::now();
@@ -99,7 +127,8 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     const GBuffer gb = render_gbuffer(pt.accel(), camera);
     r.timings.gbuffer = seconds_since(t);
     PredictTimings pt_times;
-    const Image indirect = scatter_to_image(gb, predict_gbuffer(model, enc, gb, &pt_times));
+    const Image indirect =
+        scatter_to_image(gb, predict_gbuffer_upsampled(model, enc, gb, camera, gi, &pt_times, &r.n_decoded));
     r.timings.knn = pt_times.knn, r.timings.decode = pt_times.decode;
     const IrradianceImages direct = irradiance_images(pt, gb, direct_spp, /*with_indirect=*/false);
     r.timings.direct = direct.seconds;

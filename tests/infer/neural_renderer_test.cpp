@@ -121,3 +121,33 @@ TEST(NeuralRenderer, HalfWeightsLoadAndPredictClose) {
         for (int c = 0; c < 3; ++c) err += std::pow(a[k][c] - b[k][c], 2), ref += std::pow(a[k][c], 2);
     EXPECT_LT(std::sqrt(err / ref), 2e-2);
 }
+
+// With a GI lattice (--gi-stride 2), lattice pixels and pixels decoded on their own are the
+// full-resolution predictions bit for bit, fewer queries are decoded, and interpolated pixels stay
+// close to the full prediction (the tiny random model's E⁺ is smooth on the room's planes).
+TEST(NeuralRenderer, GiLatticeMatchesFullDecodeWhereDecoded) {
+    const Scene scene = load_scene("builtin:quad-light-room");
+    const EmbreeAccel accel(scene);
+    LtmModel model = tiny_model();
+    const EncodedScene enc = encode_scene(model, accel, 1);
+    const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, 41);
+    const GBuffer gb = render_gbuffer(accel, cam);
+    const auto full = predict_gbuffer(model, enc, gb);
+    GiUpsampleOptions opt;
+    opt.stride = 2;
+    int64_t n_decoded = 0;
+    const auto up = predict_gbuffer_upsampled(model, enc, gb, cam, opt, nullptr, &n_decoded);
+    ASSERT_EQ(up.size(), full.size());
+    EXPECT_LT(n_decoded, int64_t(gb.n_hits()) / 2);
+    EXPECT_GE(n_decoded, int64_t(lattice_hits(gb, 2).size()));
+    for (size_t i : lattice_hits(gb, 2))
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(up[i][c], full[i][c]);
+    double err = 0, norm = 0;
+    for (size_t i = 0; i < full.size(); ++i)
+        for (int c = 0; c < 3; ++c) err += std::pow(up[i][c] - full[i][c], 2), norm += std::pow(full[i][c], 2);
+    EXPECT_LT(err / norm, 1e-2) << "relative squared error of the interpolation";
+    std::cout << "gi stride 2: decoded " << n_decoded << " of " << gb.n_hits() << ", relative squared error " << err / norm << "\n";
+    opt.stride = 1;
+    EXPECT_EQ(predict_gbuffer_upsampled(model, enc, gb, cam, opt, nullptr, &n_decoded), full);
+    EXPECT_EQ(n_decoded, int64_t(gb.n_hits()));
+}

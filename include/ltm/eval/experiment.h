@@ -23,6 +23,7 @@ struct EvalOptions {
     bool exclude_enclosed = true;    ///< scene-point sampling as in the dataset
     std::string out_dir;             ///< grids go here (empty: no images)
     std::string ref_cache_dir;       ///< reuse/keep references here (eval/reference_cache.h; empty: off)
+    int gi_stride = 1;               ///< > 1: also each model with E⁺ on a pixel lattice ("model:NAME/gi<S>")
 };
 
 struct EvalModel {

@@ -9,6 +9,7 @@
 #include "ltm/core/json_util.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/render/gbuffer.h"
+#include "ltm/render/gi_upsample.h"
 
 namespace ltm {
 
@@ -37,6 +38,11 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
 /// Ê⁺ at the G-buffer's hit points (normal on the side facing the eye).  -> one Vec3f per hit.
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
                                    PredictTimings *timings = nullptr);
+/// The same, decoded on a pixel lattice and interpolated (render/gi_upsample.h); opt.stride 1 is
+/// predict_gbuffer. n_decoded receives the number of queries actually decoded.
+std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
+                                             const Camera &camera, const GiUpsampleOptions &opt,
+                                             PredictTimings *timings = nullptr, int64_t *n_decoded = nullptr);
 
 struct NeuralTimings {
     double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
@@ -48,10 +54,13 @@ struct NeuralTimings {
 struct NeuralRender {
     RenderedImage image;   ///< irradiance AOV = Ê⁺, direct = E_direct
     NeuralTimings timings;
-    int64_t n_queries = 0, n_scene_points = 0, n_conductor = 0;
+    int64_t n_queries = 0;   ///< pixels with a surface
+    int64_t n_decoded = 0;   ///< queries the decoder ran on (n_queries unless gi.stride > 1)
+    int64_t n_scene_points = 0, n_conductor = 0;
 };
-/// The whole neural render of one view; direct_spp shadow-ray samples per pixel.
+/// The whole neural render of one view; direct_spp shadow-ray samples per pixel; Ê⁺ on every
+/// pixel, or on a lattice and interpolated with gi.stride > 1.
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, int direct_spp,
-                           uint64_t seed, bool exclude_enclosed = true);
+                           uint64_t seed, bool exclude_enclosed = true, const GiUpsampleOptions &gi = {1});
 
 }  // namespace ltm
