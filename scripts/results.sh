@@ -15,7 +15,7 @@ OUT=${1:-results}
 abl=()
 [[ -n "${ABLATION:-}" ]] && abl=(--ablation "$ABLATION")
 mkdir -p "$OUT/edits"
-"$LTM" eval --model "$MODEL" "${abl[@]}" --scenes 900100:900150 --width 96 --height 96 --ref-spp 2048 --ref-cache "$OUT/ref-cache" -o "$OUT/table1"
+"$LTM" eval --model "$MODEL" "${abl[@]}" --scenes 900100:900150 --width 96 --height 96 --ref-spp 2048 --gi-stride 2 --ref-cache "$OUT/ref-cache" -o "$OUT/table1"
 "$LTM" generate --seed 900007 -o "$OUT/edits/base.json"
 "$LTM" edit "$OUT/edits/base.json" --move light0=-1.3,0,1.6 -o "$OUT/edits/light-moved.json"
 "$LTM" edit "$OUT/edits/base.json" --move table0=-0.6,0,0.6 -o "$OUT/edits/table-moved.json"
