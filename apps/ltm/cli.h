@@ -57,6 +57,7 @@ struct NeuralRenderArgs {
     float exposure = 1.f;
     bool exclude_enclosed = true;
     int gi_stride = 1;   ///< decode Ê⁺ on every gi_stride-th pixel and interpolate (render/gi_upsample.h)
+    std::string direct_estimator = "auto";   ///< mis | ratio | auto (infer/neural_renderer.h)
 };
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
 

@@ -15,7 +15,7 @@ namespace ltm::cli {
 
 namespace {
 struct RenderArgs {
-    std::string scene, output, camera, method = "pathtrace", model;
+    std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto";
     int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1;
     float exposure = 1.f;
 };
@@ -40,6 +40,11 @@ Command make_render_command() {
         sub.add_option("--spp", a->spp, "Samples per pixel (pathtrace)")->capture_default_str();
         sub.add_option("--direct-spp", a->direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
             ->capture_default_str();
+        sub.add_option("--direct-estimator", a->direct_estimator,
+                       "Direct light (neural): ratio = analytic unshadowed x sampled visibility, mis = the path tracer's; "
+                       "auto = ratio unless an emitter is textured")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"auto", "ratio", "mis"}));
         sub.add_option("--gi-stride", a->gi_stride,
                        "Decode E+ on every N-th pixel in x and y and interpolate on matching surfaces (neural; 1: every pixel)")
             ->capture_default_str()
@@ -59,7 +64,8 @@ Command make_render_command() {
             if (a->model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
             if (a->direct_spp <= 0) LTM_THROW("--direct-spp ", a->direct_spp, ": must be > 0");
             run_neural_render(
-                {a->scene, a->camera, a->model, prefix, a->width, a->height, a->direct_spp, a->exposure, true, a->gi_stride},
+                {a->scene, a->camera, a->model, prefix, a->width, a->height, a->direct_spp, a->exposure, true, a->gi_stride,
+                 a->direct_estimator},
                 common);
             return;
 #else
@@ -68,6 +74,7 @@ Command make_render_command() {
         }
         if (!a->model.empty()) LTM_THROW("--model is only used with --method neural");
         if (a->gi_stride != 1) LTM_THROW("--gi-stride is only used with --method neural");
+        if (a->direct_estimator != "auto") LTM_THROW("--direct-estimator is only used with --method neural");
         if (a->spp <= 0) LTM_THROW("--spp ", a->spp, ": must be > 0");
         if (a->max_depth < 1) LTM_THROW("--max-depth ", a->max_depth, ": must be >= 1");
         const Scene scene = load_scene(a->scene);

@@ -19,9 +19,11 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     PathTracerConfig cfg;
     cfg.seed = common.seed;
     const PathTracer pt(accel, cfg);
-    GiUpsampleOptions gi;
-    gi.stride = a.gi_stride;
-    const NeuralRender r = render_neural(m.model, pt, cam, a.direct_spp, common.seed, a.exclude_enclosed, gi);
+    NeuralRenderOptions opt;
+    opt.direct_spp = a.direct_spp, opt.direct = parse_direct_estimator(a.direct_estimator);
+    opt.seed = common.seed, opt.exclude_enclosed = a.exclude_enclosed;
+    opt.gi.stride = a.gi_stride;
+    const NeuralRender r = render_neural(m.model, pt, cam, opt);
     if (r.n_conductor > 0)
         log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (the model predicts irradiance only)");
     write_rendered_image(r.image, a.prefix, a.exposure);
@@ -36,6 +38,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"decoded", r.n_decoded},
                      {"scene_points", r.n_scene_points},
                      {"direct_spp", a.direct_spp},
+                     {"direct_estimator", direct_estimator_name(r.direct)},
                      {"threads", common.threads},
                      {"timings", t.to_json()}};
     write_file_atomic(a.prefix + ".timings.json", j.dump(2) + "\n");

@@ -8,6 +8,7 @@
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/surface_sampler.h"
+#include "ltm/render/direct_light.h"
 #include "ltm/render/enclosure.h"
 
 namespace ltm {
@@ -116,21 +117,41 @@ OrderedJson NeuralTimings::to_json() const {
             {"total_s", total}};
 }
 
-NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, int direct_spp, uint64_t seed,
-                           bool exclude_enclosed, const GiUpsampleOptions &gi) {
-    if (direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", direct_spp);
+DirectEstimator parse_direct_estimator(const std::string &name) {
+    if (name == "mis") return DirectEstimator::mis;
+    if (name == "ratio") return DirectEstimator::ratio;
+    if (name == "auto") return DirectEstimator::automatic;
+    LTM_THROW("direct-light estimator '", name, "': expected mis, ratio or auto");
+}
+
+const char *direct_estimator_name(DirectEstimator e) {
+    switch (e) {
+        case DirectEstimator::mis: return "mis";
+        case DirectEstimator::ratio: return "ratio";
+        case DirectEstimator::automatic: return "auto";
+    }
+    return "?";
+}
+
+NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt) {
+    if (opt.direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", opt.direct_spp);
     NeuralRender r;
     const auto t0 = Clock::now();
-    const EncodedScene enc = encode_scene(model, pt.accel(), seed, exclude_enclosed);
+    const EncodedScene enc = encode_scene(model, pt.accel(), opt.seed, opt.exclude_enclosed);
     r.timings.sample = enc.sample_seconds, r.timings.geometry = enc.geometry_seconds, r.timings.encode = enc.encode_seconds;
     const auto t = Clock::now();
     const GBuffer gb = render_gbuffer(pt.accel(), camera);
     r.timings.gbuffer = seconds_since(t);
     PredictTimings pt_times;
     const Image indirect =
-        scatter_to_image(gb, predict_gbuffer_upsampled(model, enc, gb, camera, gi, &pt_times, &r.n_decoded));
+        scatter_to_image(gb, predict_gbuffer_upsampled(model, enc, gb, camera, opt.gi, &pt_times, &r.n_decoded));
     r.timings.knn = pt_times.knn, r.timings.decode = pt_times.decode;
-    const IrradianceImages direct = irradiance_images(pt, gb, direct_spp, /*with_indirect=*/false);
+    r.direct = opt.direct;
+    if (r.direct == DirectEstimator::automatic)
+        r.direct = RatioDirectLight::supports(pt.accel().scene()) ? DirectEstimator::ratio : DirectEstimator::mis;
+    const IrradianceImages direct = r.direct == DirectEstimator::ratio
+                                        ? direct_images_ratio(RatioDirectLight(pt.accel(), opt.seed), gb, opt.direct_spp)
+                                        : irradiance_images(pt, gb, opt.direct_spp, /*with_indirect=*/false);
     r.timings.direct = direct.seconds;
     r.image = compose_image(gb, direct.direct, indirect, &r.n_conductor);
     r.timings.total = seconds_since(t0);

@@ -2,7 +2,9 @@
 // weights: view consistency, batch independence, composition, and direct light = the PT estimator.
 #include <gtest/gtest.h>
 
+#include "ltm/core/error.h"
 #include "ltm/infer/neural_renderer.h"
+#include "ltm/render/direct_light.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/scene/scene_io.h"
 #include "test_util.h"
@@ -74,14 +76,18 @@ TEST(NeuralRenderer, PredictionIndependentOfBatch) {
     for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(single[0][c], all[k][c]);
 }
 
-// render_neural = Le + albedo/π·(E_direct + Ê⁺) with E_direct the path tracer's direct estimator.
+// render_neural = Le + albedo/π·(E_direct + Ê⁺) with E_direct the path tracer's direct estimator
+// (--direct-estimator mis) or the ratio estimator (the default for constant-radiance emitters).
 TEST(NeuralRenderer, ComposesDirectAndPredictedIrradiance) {
     const Scene scene = load_scene("builtin:quad-light-room");
     const EmbreeAccel accel(scene);
     const PathTracer pt(accel, PathTracerConfig{});
     LtmModel model = tiny_model();
     const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, 20);
-    const NeuralRender r = render_neural(model, pt, cam, /*direct_spp=*/4, /*seed=*/2);
+    NeuralRenderOptions opt;
+    opt.direct_spp = 4, opt.seed = 2, opt.direct = DirectEstimator::mis;
+    const NeuralRender r = render_neural(model, pt, cam, opt);
+    EXPECT_EQ(r.direct, DirectEstimator::mis);
     const GBuffer gb = render_gbuffer(accel, cam);
     ASSERT_EQ(r.n_queries, int64_t(gb.n_hits()));
     EXPECT_EQ(r.n_scene_points, model->cfg.scene_points);
@@ -150,4 +156,22 @@ TEST(NeuralRenderer, GiLatticeMatchesFullDecodeWhereDecoded) {
     opt.stride = 1;
     EXPECT_EQ(predict_gbuffer_upsampled(model, enc, gb, cam, opt, nullptr, &n_decoded), full);
     EXPECT_EQ(n_decoded, int64_t(gb.n_hits()));
+}
+
+// The default direct light for constant-radiance emitters is the ratio estimator, bit for bit
+// the same as render/direct_light's image for the same seed.
+TEST(NeuralRenderer, AutomaticDirectLightIsTheRatioEstimator) {
+    const Scene scene = load_scene("builtin:quad-light-room");
+    const EmbreeAccel accel(scene);
+    const PathTracer pt(accel, PathTracerConfig{});
+    LtmModel model = tiny_model();
+    const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, 16);
+    NeuralRenderOptions opt;
+    opt.direct_spp = 2, opt.seed = 9;
+    const NeuralRender r = render_neural(model, pt, cam, opt);
+    EXPECT_EQ(r.direct, DirectEstimator::ratio);
+    const Image want = direct_images_ratio(RatioDirectLight(accel, 9), render_gbuffer(accel, cam), 2).direct;
+    EXPECT_EQ(r.image.direct.pixels, want.pixels);
+    EXPECT_EQ(parse_direct_estimator("mis"), DirectEstimator::mis);
+    EXPECT_THROW(parse_direct_estimator("fast"), Error);
 }

@@ -44,6 +44,14 @@ std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene
                                              const Camera &camera, const GiUpsampleOptions &opt,
                                              PredictTimings *timings = nullptr, int64_t *n_decoded = nullptr);
 
+enum class DirectEstimator {
+    mis,     ///< the path tracer's unbiased estimator (light + cosine samples, MIS)
+    ratio,   ///< analytic unshadowed E × stochastic visibility (render/direct_light.h)
+    automatic,   ///< ratio when every emitter has constant radiance, else mis
+};
+DirectEstimator parse_direct_estimator(const std::string &name);   ///< "mis" | "ratio" | "auto"
+const char *direct_estimator_name(DirectEstimator e);
+
 struct NeuralTimings {
     double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
     /// The model's own cost: everything but the G-buffer and direct light (which any renderer pays).
@@ -57,10 +65,16 @@ struct NeuralRender {
     int64_t n_queries = 0;   ///< pixels with a surface
     int64_t n_decoded = 0;   ///< queries the decoder ran on (n_queries unless gi.stride > 1)
     int64_t n_scene_points = 0, n_conductor = 0;
+    DirectEstimator direct = DirectEstimator::mis;   ///< the estimator that was used
 };
-/// The whole neural render of one view; direct_spp shadow-ray samples per pixel; Ê⁺ on every
-/// pixel, or on a lattice and interpolated with gi.stride > 1.
-NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, int direct_spp,
-                           uint64_t seed, bool exclude_enclosed = true, const GiUpsampleOptions &gi = {1});
+struct NeuralRenderOptions {
+    int direct_spp = 16;            ///< light samples per pixel for E_direct
+    DirectEstimator direct = DirectEstimator::automatic;
+    uint64_t seed = 0;              ///< scene-point sampling and direct-light streams
+    bool exclude_enclosed = true;   ///< scene points as in the dataset
+    GiUpsampleOptions gi{1};        ///< stride 1: Ê⁺ decoded at every pixel
+};
+/// The whole neural render of one view.
+NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);
 
 }  // namespace ltm

@@ -1,0 +1,56 @@
+// direct_light.h: E_direct with analytic unshadowed irradiance and stochastic visibility — the
+// ratio estimator of Heitz, Hill and McGuire 2018 ("Combining Analytic Direct Illumination and
+// Stochastic Shadows"):
+//     E_direct ≈ Σ_l E_unocc,l · (Σ_s V_s·w_s) / (Σ_s w_s),   w_s = cosθ_x·cosθ_l / (d²·p_A)
+// per light l (an emissive mesh), where E_unocc,l is exact (Lambert's polygon formula over its
+// triangles, clipped to the receiver's hemisphere) and the ratio uses the same samples on l with
+// and without their shadow rays. The n samples are shared among the lights in proportion to
+// E_unocc,l (at least one each), so a light in another room — unoccluded analytically, occluded
+// in fact — costs one shadow ray and adds no noise to the lights that are seen. Unshadowed points are exact at any sample count and penumbrae keep only the noise of the
+// visibility ratio, so a few samples give a clean image. A ratio of estimates is biased, but
+// consistent (→ E_direct as samples grow); the path tracer's unbiased MIS estimator stays the
+// ground truth. Needs constant emission (textured emitters: use the MIS estimator).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "ltm/core/image.h"
+#include "ltm/render/embree_accel.h"
+#include "ltm/render/gbuffer.h"
+
+namespace ltm {
+
+/// Irradiance at (p, n) from a one-sided triangle (v0, v1, v2) of unit radiance emitting along
+/// (v1 − v0) × (v2 − v0): Lambert's formula after clipping to the hemisphere n·(x − p) ≥ 0.
+/// Multiply by Le for W/m². 0 behind the emitter or below the horizon.
+float triangle_irradiance(Vec3f p, Vec3f n, Vec3f v0, Vec3f v1, Vec3f v2);
+
+class RatioDirectLight {
+public:
+    /// Throws if an emitter's radiance is textured (no closed form).
+    RatioDirectLight(const EmbreeAccel &accel, uint64_t seed);
+    /// E_unocc: every emissive triangle, no occlusion.
+    Vec3f unoccluded(Vec3f p, Vec3f n) const;
+    /// The ratio estimate with n_samples light samples; deterministic in (seed, key).
+    Vec3f irradiance(Vec3f p, Vec3f n, uint64_t key, int n_samples) const;
+    /// True if every emitter has constant radiance (the constructor's requirement).
+    static bool supports(const Scene &scene);
+
+private:
+    struct Light {   // one emissive mesh of constant radiance
+        std::vector<Vec3f> v;         // 3 vertices per triangle
+        std::vector<double> cdf;      // by area, last = 1
+        float area = 0.f;
+        Vec3f radiance;
+    };
+    float unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const;   // Σ triangle_irradiance
+    const EmbreeAccel &m_accel;
+    std::vector<Light> m_lights;
+    uint64_t m_seed;
+};
+
+/// E_direct at every G-buffer hit with the ratio estimator (progress on stderr).
+IrradianceImages direct_images_ratio(const RatioDirectLight &light, const GBuffer &gb, int spp);
+
+}  // namespace ltm
