@@ -6,14 +6,14 @@
 #      object moved, and the walls' albedo changed; each evaluated against path tracing of itself.
 #   3. View consistency: two views of one scene (the same model, the same latents).
 # References are kept in OUT_DIR/ref-cache: a re-run with another model renders none of them again.
-# Usage: scripts/results.sh [OUT_DIR]   (MODEL, ABLATION=name=weights, BUILD override)
+# Usage: scripts/results.sh [OUT_DIR]   (MODEL, ABLATION="name=weights ...", BUILD override)
 set -euo pipefail
 BUILD=${BUILD:-build}
 LTM="$BUILD/apps/ltm/ltm"
 MODEL=${MODEL:-models/ltm-cpu.safetensors}
 OUT=${1:-results}
 abl=()
-[[ -n "${ABLATION:-}" ]] && abl=(--ablation "$ABLATION")
+for a in ${ABLATION:-}; do abl+=(--ablation "$a"); done
 mkdir -p "$OUT/edits"
 "$LTM" eval --model "$MODEL" "${abl[@]}" --scenes 900100:900150 --width 96 --height 96 --ref-spp 2048 --gi-stride 2 --ref-cache "$OUT/ref-cache" -o "$OUT/table1"
 "$LTM" generate --seed 900007 -o "$OUT/edits/base.json"
