@@ -2,12 +2,9 @@
 #include "ltm/render/direct_light.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "ltm/core/error.h"
-#include "ltm/core/parallel.h"
-#include "ltm/core/progress.h"
 #include "ltm/core/rng.h"
 #include "ltm/core/sampling.h"
 #include "ltm/render/ray.h"
@@ -70,13 +67,13 @@ RatioDirectLight::RatioDirectLight(const EmbreeAccel &accel, uint64_t seed) : m_
         for (size_t t = 0; t < mesh.n_triangles(); ++t) {
             if (!(mesh.area(t) > 0.f)) continue;
             for (int k = 0; k < 3; ++k) l.v.push_back(mesh.vertex(t, k));
+            l.normal.push_back(normalize(mesh.cross_normal(t)));
             total += double(mesh.area(t));
             l.cdf.push_back(total);
         }
         if (l.cdf.empty()) continue;
         for (double &c : l.cdf) c /= total;
         l.cdf.back() = 1.0;
-        l.area = float(total);
         m_lights.push_back(std::move(l));
     }
 }
@@ -115,15 +112,14 @@ Vec3f RatioDirectLight::irradiance(Vec3f p, Vec3f n, uint64_t key, int n_samples
         for (int s = 0; s < k; ++s) {
             // Uniform on the light's area: triangle by area, then a uniform point on it.
             const double u0 = double(rng.next_float());
-            const size_t t = 3 * size_t(std::lower_bound(l.cdf.begin(), l.cdf.end(), u0) - l.cdf.begin());
+            const size_t tri = size_t(std::lower_bound(l.cdf.begin(), l.cdf.end(), u0) - l.cdf.begin()), t = 3 * tri;
             const Vec2f b = sample_uniform_triangle({rng.next_float(), rng.next_float()});
             const Vec3f q = l.v[t] * b.x + l.v[t + 1] * b.y + l.v[t + 2] * (1.f - b.x - b.y);
             const Vec3f to = q - p;
             const float d2 = dot(to, to);
             if (!(d2 > 0.f)) continue;
             const Vec3f wl = to / std::sqrt(d2);
-            const Vec3f nl = normalize(cross(l.v[t + 1] - l.v[t], l.v[t + 2] - l.v[t]));
-            const float cos_x = dot(n, wl), cos_light = -dot(nl, wl);
+            const float cos_x = dot(n, wl), cos_light = -dot(l.normal[tri], wl);
             if (cos_x <= 0.f || cos_light <= 0.f) continue;   // w = 0 in both sums
             const double w = double(cos_x) * double(cos_light) / double(d2);   // the constant area pdf cancels
             all += w;
@@ -138,22 +134,9 @@ Vec3f RatioDirectLight::irradiance(Vec3f p, Vec3f n, uint64_t key, int n_samples
 
 IrradianceImages direct_images_ratio(const RatioDirectLight &light, const GBuffer &gb, int spp) {
     if (spp <= 0) LTM_THROW("direct light: samples per pixel must be > 0, got ", spp);
-    const auto t0 = std::chrono::steady_clock::now();
-    std::vector<Vec3f> direct(gb.n_hits());
-    Progress progress("direct light", std::max<uint64_t>(1, gb.n_hits()), "pixels");
-    parallel_for(0, int64_t(gb.n_hits()), 256, [&](int64_t b, int64_t e) {
-        for (int64_t h = b; h < e; ++h) {
-            const size_t k = size_t(h);
-            direct[k] = light.irradiance(gb.position[k], gb.normal[k], uint64_t(gb.hit_pixels[k]), spp);
-        }
-        progress.add(uint64_t(e - b));
+    return estimate_images(gb, "direct light", [&](size_t k) {
+        return IrradianceEstimate{light.irradiance(gb.position[k], gb.normal[k], uint64_t(gb.hit_pixels[k]), spp), Vec3f(0.f)};
     });
-    progress.finish();
-    IrradianceImages out;
-    out.direct = scatter_to_image(gb, direct);
-    out.indirect = Image(gb.width, gb.height);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return out;
 }
 
 }  // namespace ltm

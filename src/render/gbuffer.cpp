@@ -1,6 +1,7 @@
 // gbuffer.cpp: primary rays at pixel centres; irradiance images at the same points; composition.
 #include "ltm/render/gbuffer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 
@@ -45,18 +46,16 @@ GBuffer render_gbuffer(const EmbreeAccel &accel, const Camera &cam) {
     return gb;
 }
 
-IrradianceImages irradiance_images(const PathTracer &pt, const GBuffer &gb, int spp, bool with_indirect) {
-    if (spp <= 0) LTM_THROW("irradiance image: samples per pixel must be > 0, got ", spp);
+IrradianceImages estimate_images(const GBuffer &gb, const char *label,
+                                 const std::function<IrradianceEstimate(size_t hit)> &estimate) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Vec3f> direct(gb.n_hits()), indirect(gb.n_hits());
-    Progress progress(with_indirect ? "path trace" : "direct light", gb.n_hits(), "pixels");
+    Progress progress(label, std::max<uint64_t>(1, gb.n_hits()), "pixels");
     parallel_for(0, int64_t(gb.n_hits()), 256, [&](int64_t b, int64_t e) {
         for (int64_t h = b; h < e; ++h) {
-            const size_t k = size_t(h);
-            const IrradianceEstimate est = pt.irradiance(gb.position[k], gb.normal[k],
-                                                         k_gbuffer_domain | uint64_t(gb.hit_pixels[k]), spp, with_indirect);
-            direct[k] = est.direct;
-            indirect[k] = est.indirect;
+            const IrradianceEstimate est = estimate(size_t(h));
+            direct[size_t(h)] = est.direct;
+            indirect[size_t(h)] = est.indirect;
         }
         progress.add(uint64_t(e - b));
     });
@@ -66,6 +65,13 @@ IrradianceImages irradiance_images(const PathTracer &pt, const GBuffer &gb, int 
     out.indirect = scatter_to_image(gb, indirect);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
+}
+
+IrradianceImages irradiance_images(const PathTracer &pt, const GBuffer &gb, int spp, bool with_indirect) {
+    if (spp <= 0) LTM_THROW("irradiance image: samples per pixel must be > 0, got ", spp);
+    return estimate_images(gb, with_indirect ? "path trace" : "direct light", [&](size_t k) {
+        return pt.irradiance(gb.position[k], gb.normal[k], k_gbuffer_domain | uint64_t(gb.hit_pixels[k]), spp, with_indirect);
+    });
 }
 
 Image scatter_to_image(const GBuffer &gb, const std::vector<Vec3f> &per_hit) {

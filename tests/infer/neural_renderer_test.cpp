@@ -22,6 +22,14 @@ LtmModel tiny_model() {
     return m;
 }
 
+// The built-in room, its accelerator and path tracer, and the tiny model: most tests' set-up.
+struct Room {
+    Scene scene = load_scene("builtin:quad-light-room");
+    EmbreeAccel accel{scene};
+    PathTracer pt{accel, PathTracerConfig{}};
+    LtmModel model = tiny_model();
+};
+
 Camera looking_at(Vec3f eye, Vec3f target, int size) {
     Camera c;
     c.eye = eye, c.target = target, c.width = size, c.height = size, c.fov_y_deg = 50.f;
@@ -79,10 +87,10 @@ TEST(NeuralRenderer, PredictionIndependentOfBatch) {
 // render_neural = Le + albedo/π·(E_direct + Ê⁺) with E_direct the path tracer's direct estimator
 // (--direct-estimator mis) or the ratio estimator (the default for constant-radiance emitters).
 TEST(NeuralRenderer, ComposesDirectAndPredictedIrradiance) {
-    const Scene scene = load_scene("builtin:quad-light-room");
-    const EmbreeAccel accel(scene);
-    const PathTracer pt(accel, PathTracerConfig{});
-    LtmModel model = tiny_model();
+    Room room;
+    const EmbreeAccel &accel = room.accel;
+    const PathTracer &pt = room.pt;
+    LtmModel &model = room.model;
     const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, 20);
     NeuralRenderOptions opt;
     opt.direct_spp = 4, opt.seed = 2, opt.direct = DirectEstimator::mis;
@@ -161,10 +169,10 @@ TEST(NeuralRenderer, GiLatticeMatchesFullDecodeWhereDecoded) {
 // The default direct light for constant-radiance emitters is the ratio estimator, bit for bit
 // the same as render/direct_light's image for the same seed.
 TEST(NeuralRenderer, AutomaticDirectLightIsTheRatioEstimator) {
-    const Scene scene = load_scene("builtin:quad-light-room");
-    const EmbreeAccel accel(scene);
-    const PathTracer pt(accel, PathTracerConfig{});
-    LtmModel model = tiny_model();
+    Room room;
+    const EmbreeAccel &accel = room.accel;
+    const PathTracer &pt = room.pt;
+    LtmModel &model = room.model;
     const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, 16);
     NeuralRenderOptions opt;
     opt.direct_spp = 2, opt.seed = 9;

@@ -40,8 +40,8 @@ public:
 private:
     struct Light {   // one emissive mesh of constant radiance
         std::vector<Vec3f> v;         // 3 vertices per triangle
+        std::vector<Vec3f> normal;    // unit, emitting side, one per triangle
         std::vector<double> cdf;      // by area, last = 1
-        float area = 0.f;
         Vec3f radiance;
     };
     float unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const;   // Σ triangle_irradiance

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "ltm/core/image.h"
@@ -33,6 +34,11 @@ struct IrradianceImages {
     double seconds = 0.0;
 };
 IrradianceImages irradiance_images(const PathTracer &pt, const GBuffer &gb, int spp, bool with_indirect);
+/// The same loop for any per-point estimator: estimate(k) for every hit k in parallel, with a
+/// progress bar named `label` and the wall time; the irradiance_images of other estimators
+/// (render/direct_light.h) are built on it.
+IrradianceImages estimate_images(const GBuffer &gb, const char *label,
+                                 const std::function<IrradianceEstimate(size_t hit)> &estimate);
 
 /// Image of the G-buffer's values at hit pixels (black elsewhere).
 Image scatter_to_image(const GBuffer &gb, const std::vector<Vec3f> &per_hit);
