@@ -42,7 +42,7 @@ struct EncodedScene {
         const auto sp = points(8192, SampleStream::scene_points, true);
         query_points = points(65536, SampleStream::query_points, false);
         latents = model->encode(sp, model->scene_geometry(sp));
-        query = normalize_query_points(query_points, latents.center);
+        query = normalize_query_points(query_points, latents.norm);
     }
 };
 }  // namespace

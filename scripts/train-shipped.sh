@@ -11,6 +11,7 @@
 #   4. export best.ltmckpt (lowest validation log-space MSE) as F16 safetensors
 # The v0.3 model was exported by hand from this run stopped at step 1000 of 2000 (2.5 s per step
 # on 2 cores; the session ended): best.ltmckpt was step 800. Re-running resumes at step 1000.
+# configs/model/cpu-v03.json is v0.3's model config (no "physics": metric grid, raw emission).
 # Usage: scripts/train-shipped.sh   (BUILD or LTM, INIT, RUN, STEPS override)
 set -euo pipefail
 BUILD=${BUILD:-build}
@@ -20,10 +21,10 @@ RUN=${RUN:-runs/cpu-v03}
 STEPS=${STEPS:-2000}
 "$LTM" dataset build --config configs/data/cpu.json --seed-range 0:113 -o data/cpu
 "$LTM" dataset build --config configs/data/cpu-q16k.json --seed-range 113:528 -o data/cpu-q16k
-train=("$LTM" train --model configs/model/cpu.json --data data/cpu --data data/cpu-q16k --out "$RUN"
+train=("$LTM" train --model configs/model/cpu-v03.json --data data/cpu --data data/cpu-q16k --out "$RUN"
        --config configs/train/default.json --steps "$STEPS" --set lr=5e-4 --set warmup_steps=100
        --set val_fraction=0.03 --set val_every=200 --set ckpt_every=100 --set select_by=val_mse_log
-       --set loss_eps=0.1)
+       --set loss=log-relative-l2 --set loss_eps=0.1)
 # The v0.2 weights (GPU 250 steps + CPU 500 steps on ~100 scenes) as committed in b6eacc3.
 [[ -f "$INIT" ]] || { mkdir -p "$(dirname "$INIT")"; git show b6eacc3:models/ltm-cpu.safetensors > "$INIT"; }
 if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume; else "${train[@]}" --init "$INIT"; fi

@@ -1,5 +1,6 @@
 // cmd_eval.cpp: `ltm eval --model M --scenes 900000:900050 --views 2 -o DIR` → report.json,
-// table.md and one PNG grid per scene and view (eval/experiment.h).
+// table.md and one PNG grid per scene and view (eval/experiment.h); --physics adds physics.json and
+// physics.md (eval/physics_check.h).
 #include <filesystem>
 #include <memory>
 
@@ -9,6 +10,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/eval/experiment.h"
+#include "ltm/eval/physics_check.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/scene/scene_io.h"
@@ -20,7 +22,8 @@ struct EvalArgs {
     std::string model, output, gen_config;
     std::vector<std::string> scenes, ablations;
     EvalOptions opt;
-    bool no_grids = false;
+    PhysicsCheckOptions physics;
+    bool no_grids = false, run_physics = false, physics_only = false;
 };
 }  // namespace
 
@@ -47,6 +50,16 @@ Command make_eval_command() {
             ->capture_default_str()
             ->check(CLI::Range(1, 16));
         sub.add_flag("--no-grids", a->no_grids, "Skip the PNG grids");
+        sub.add_flag("--physics", a->run_physics,
+                     "Also run the physics checks (emission x0.25/x4, unit x0.1/x10, blue room shells, furnace box): "
+                     "physics.json, physics.md");
+        sub.add_flag("--physics-only", a->physics_only, "Only the physics checks (no Table 1)");
+        sub.add_option("--physics-size", a->physics.width, "Physics checks: square G-buffer size")
+            ->capture_default_str()
+            ->check(CLI::Range(8, 1024));
+        sub.add_option("--physics-spp", a->physics.ref_spp, "Physics checks: reference samples per pixel")
+            ->capture_default_str()
+            ->check(CLI::Range(1, 1 << 20));
         sub.add_option("-o,--output", a->output, "Output directory")->required();
     };
     c.run = [a](const CommonOptions &common) {
@@ -78,6 +91,21 @@ Command make_eval_command() {
         }
         if (scenes.empty()) LTM_THROW("--scenes: no scenes");
         create_directories(a->output);
+        if (a->run_physics || a->physics_only) {
+            PhysicsCheckOptions po = a->physics;
+            po.height = po.width;
+            po.seed = common.seed, po.ref_cache_dir = opt.ref_cache_dir, po.exclude_enclosed = opt.exclude_enclosed;
+            const PhysicsReport pr = run_physics_checks(scenes, models, po);
+            OrderedJson j = pr.to_json();
+            j["models"] = OrderedJson::object();
+            for (const auto &m : models) j["models"][m.name] = m.path;
+            write_file_atomic(a->output + "/physics.json", j.dump(2) + "\n");
+            const std::string table = pr.table_markdown();
+            write_file_atomic(a->output + "/physics.md", table);
+            std::fprintf(stderr, "%s", table.c_str());
+            log_info("wrote ", a->output, "/physics.json, physics.md");
+            if (a->physics_only) return;
+        }
         const EvalReport r = run_evaluation(scenes, models, opt);
         if (r.views.empty()) LTM_THROW("eval: no view saw any surface");
         OrderedJson j = r.to_json();

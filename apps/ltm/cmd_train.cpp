@@ -13,7 +13,7 @@ namespace ltm::cli {
 namespace {
 struct TrainArgs {
     std::string model, out, config, init, device = "cpu";
-    std::vector<std::string> data, overrides;
+    std::vector<std::string> data, val_data, overrides;
     bool resume = false;
     int steps = -1;
 };
@@ -27,6 +27,8 @@ Command make_train_command() {
     c.setup = [a](CLI::App &sub, CommonOptions &) {
         sub.add_option("--model", a->model, "Model config (configs/model/{tiny,cpu,paper}.json)")->required();
         sub.add_option("--data", a->data, "Dataset directory (ltm dataset build); repeat to train on several")->required();
+        sub.add_option("--val-data", a->val_data,
+                       "Validation dataset directory (repeatable); with it every --data record trains and val_fraction is unused");
         sub.add_option("--out", a->out, "Run directory: log.jsonl, last/best.ltmckpt")->required();
         sub.add_option("--config", a->config, "Training config JSON (default: built-in defaults, configs/train/default.json)");
         sub.add_option("--set", a->overrides, "Override a training key, e.g. --set lr=5e-4");
@@ -44,7 +46,8 @@ Command make_train_command() {
         const ModelConfig mc = ModelConfig::from_file(a->model);
         if (a->device == "cuda" && !torch::cuda::is_available())
             LTM_THROW("--device cuda: this libtorch has no CUDA device (", torch::cuda::device_count(), " found)");
-        Trainer trainer(mc, tc, a->data, a->out, a->device == "cuda" ? torch::Device(torch::kCUDA) : torch::Device(torch::kCPU));
+        Trainer trainer(mc, tc, a->data, a->out, a->device == "cuda" ? torch::Device(torch::kCUDA) : torch::Device(torch::kCPU),
+                        a->val_data);
         log_info("model '", mc.name, "': ", trainer.model()->n_parameters(), " parameters");
         if (!a->init.empty()) {
             if (a->resume) LTM_THROW("--init and --resume exclude each other (a resumed run has its own weights)");

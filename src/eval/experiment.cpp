@@ -12,6 +12,7 @@
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/reference_cache.h"
 #include "ltm/infer/neural_renderer.h"
+#include "ltm/points/power_balance.h"
 #include "ltm/render/gbuffer.h"
 
 namespace ltm {
@@ -45,9 +46,18 @@ Stats stats(const std::vector<double> &v) {
     return s;
 }
 
-OrderedJson metrics_json(const ImageMetrics &m) {
+OrderedJson metrics_json(const MethodResult &r) {
+    const ImageMetrics &m = r.metrics;
     return {{"mse", m.mse}, {"psnr", std::isfinite(m.psnr) ? OrderedJson(m.psnr) : OrderedJson("inf")},
-            {"ssim", m.ssim}, {"rel_mse", m.rel_mse}};
+            {"ssim", m.ssim}, {"rel_mse", m.rel_mse}, {"level_ratio", r.field.level_ratio},
+            {"chroma_error", r.field.chroma_error}, {"luminance_correlation", r.field.luminance_correlation}};
+}
+
+// The flat oracle's tone-mapped MSE in the view (NaN if it was not evaluated).
+double flat_oracle_mse(const ViewResult &v) {
+    for (const auto &m : v.methods)
+        if (m.method == "flat-oracle") return m.metrics.mse;
+    return NAN;
 }
 
 std::vector<std::string> method_order(const EvalReport &r) {
@@ -58,27 +68,15 @@ std::vector<std::string> method_order(const EvalReport &r) {
     return out;
 }
 
-// The reference E⁺ of one view: from the cache when it holds this exact reference, otherwise
-// rendered (and stored, if a cache is given). Only .indirect and .seconds are filled from the cache.
-IrradianceImages reference_images(const EvalScene &es, const Camera &cam, const GBuffer &gb, const PathTracer &pt,
-                                  const PathTracerConfig &cfg, const EvalOptions &opt, ViewResult *vr) {
-    IrradianceImages ref;
-    const std::string key = opt.ref_cache_dir.empty() ? "" : reference_cache_key(es.scene, cam, opt.ref_spp, cfg);
-    if (!key.empty()) {
-        if (auto cached = load_cached_reference(opt.ref_cache_dir, key, cam.width, cam.height)) {
-            ref.indirect = std::move(cached->indirect);
-            ref.seconds = vr->reference_seconds = cached->seconds;
-            vr->reference_cached = true;
-            return ref;
-        }
-    }
-    ref = irradiance_images(pt, gb, opt.ref_spp, true);
+// The reference E⁺ of one view (cached when opt.ref_cache_dir is set).
+Image reference_image(const EvalScene &es, const Camera &cam, const GBuffer &gb, const PathTracer &pt,
+                      const PathTracerConfig &cfg, const EvalOptions &opt, ViewResult *vr) {
+    CachedReference ref = reference_irradiance(opt.ref_cache_dir, es.scene, cam, gb, pt, cfg, opt.ref_spp,
+                                               {{"scene", es.name}, {"view", cam.name}, {"width", cam.width},
+                                                {"height", cam.height}, {"spp", opt.ref_spp}},
+                                               &vr->reference_cached);
     vr->reference_seconds = ref.seconds;
-    if (!key.empty())
-        store_cached_reference(opt.ref_cache_dir, key, {ref.indirect, ref.seconds},
-                               {{"scene", es.name}, {"view", cam.name}, {"width", cam.width}, {"height", cam.height},
-                                {"spp", opt.ref_spp}});
-    return ref;
+    return std::move(ref.indirect);
 }
 
 }  // namespace
@@ -102,6 +100,11 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             return c;
         };
         const PathTracer pt_ref(accel, tracer_config(1)), pt_64(accel, tracer_config(2)), pt_eq(accel, tracer_config(3));
+        const auto t_prior = Clock::now();
+        const int64_t n_points = models.empty() ? 8192 : models.front().model->cfg.scene_points;
+        const auto prior = power_balance_irradiance(sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed),
+                                                    PathTracerConfig{}.max_depth);
+        const double prior_seconds = std::chrono::duration<double>(Clock::now() - t_prior).count();
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
         for (int v = 0; v < opt.views; ++v) {
@@ -114,7 +117,11 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             ViewResult vr;
             vr.scene = es.name, vr.view = cam.name, vr.pixels = int64_t(gb.n_hits());
             log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
-            const IrradianceImages ref = reference_images(es, cam, gb, pt_ref, tracer_config(1), opt, &vr);
+            const Image ref = reference_image(es, cam, gb, pt_ref, tracer_config(1), opt, &vr);
+            const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
+            auto add = [&](const std::string &method, const Image &img, double secs, int spp) {
+                vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits)});
+            };
             std::vector<Image> model_images;
             double first_model_seconds = 0;
             for (size_t mi = 0; mi < models.size(); ++mi) {
@@ -126,7 +133,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 // A single frame pays the encoder too: the model's time is encode + kNN + decode.
                 const double secs = e.sample_seconds + e.geometry_seconds + e.encode_seconds + decode_s;
                 if (mi == 0) first_model_seconds = secs;
-                vr.methods.push_back({"model:" + models[mi].name, compare_images(pred, ref.indirect), secs, 0});
+                add("model:" + models[mi].name, pred, secs, 0);
                 model_images.push_back(pred);
                 if (opt.gi_stride > 1) {
                     GiUpsampleOptions gi;
@@ -135,30 +142,36 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                     const Image up = scatter_to_image(gb, predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
                     const double up_s = e.sample_seconds + e.geometry_seconds + e.encode_seconds +
                                         std::chrono::duration<double>(Clock::now() - t1).count();
-                    vr.methods.push_back({"model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride),
-                                          compare_images(up, ref.indirect), up_s, 0});
+                    add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride), up, up_s, 0);
                 }
             }
             const IrradianceImages b64 = irradiance_images(pt_64, gb, opt.baseline_spp, true);
-            vr.methods.push_back({"pt" + std::to_string(opt.baseline_spp), compare_images(b64.indirect, ref.indirect),
-                                  b64.seconds, opt.baseline_spp});
+            add("pt" + std::to_string(opt.baseline_spp), b64.indirect, b64.seconds, opt.baseline_spp);
             Image eq_img;
             if (!models.empty()) {
                 // PT at the model's wall time: spp scaled from the 64-spp run's measured rate.
                 const int spp_eq = std::max(1, int(std::lround(double(opt.baseline_spp) * first_model_seconds / b64.seconds)));
                 const IrradianceImages eq = irradiance_images(pt_eq, gb, spp_eq, true);
-                vr.methods.push_back({"pt-equal-time", compare_images(eq.indirect, ref.indirect), eq.seconds, spp_eq});
+                add("pt-equal-time", eq.indirect, eq.seconds, spp_eq);
                 eq_img = eq.indirect;
             }
+            // The floor: every pixel the reference's own mean colour (eval/field_metrics.h).
+            const Color3d mean = mean_color(reinterpret_cast<const float *>(ref_hits.data()), ref_hits.size());
+            add("flat-oracle", scatter_to_image(gb, std::vector<Vec3f>(ref_hits.size(), Vec3f{float(mean[0]), float(mean[1]), float(mean[2])})),
+                0.0, 0);
+            // The closed-form power-balance level from the scene points alone (points/power_balance.h):
+            // what the model's prior gives before the network adds anything.
+            add("flat-prior", scatter_to_image(gb, std::vector<Vec3f>(ref_hits.size(), Vec3f{float(prior[0]), float(prior[1]), float(prior[2])})),
+                prior_seconds, 0);
             if (!opt.out_dir.empty()) {
                 // albedo | reference | model | PT 64 | PT equal time | |model − reference|
-                const float scale = tonemap_scale(ref.indirect);
-                std::vector<Image> tiles{scatter_to_image(gb, gb.albedo), tonemap(ref.indirect, scale)};
+                const float scale = tonemap_scale(ref);
+                std::vector<Image> tiles{scatter_to_image(gb, gb.albedo), tonemap(ref, scale)};
                 if (!model_images.empty()) tiles.push_back(tonemap(model_images[0], scale));
                 tiles.push_back(tonemap(b64.indirect, scale));
                 if (!model_images.empty()) {
                     tiles.push_back(tonemap(eq_img, scale));
-                    tiles.push_back(error_map(model_images[0], ref.indirect, scale));
+                    tiles.push_back(error_map(model_images[0], ref, scale));
                 }
                 write_png(opt.out_dir + "/" + es.name + "_" + cam.name + ".png", hconcat(tiles), 1.f);
             }
@@ -180,27 +193,34 @@ OrderedJson EvalReport::to_json() const {
     j["models"] = models;
     OrderedJson summary = OrderedJson::object();
     for (const auto &method : method_order(*this)) {
-        std::vector<double> mse, ssim, psnr, rel, secs;
+        std::vector<double> mse, ssim, psnr, rel, secs, chroma, corr, log_level;
+        int beats_flat = 0, level_in_band = 0;
         for (const auto &v : views)
             for (const auto &m : v.methods)
                 if (m.method == method) {
                     mse.push_back(m.metrics.mse), ssim.push_back(m.metrics.ssim), rel.push_back(m.metrics.rel_mse);
                     secs.push_back(m.seconds);
                     if (std::isfinite(m.metrics.psnr)) psnr.push_back(m.metrics.psnr);
+                    chroma.push_back(m.field.chroma_error), corr.push_back(m.field.luminance_correlation);
+                    log_level.push_back(std::log(std::max(m.field.level_ratio, 1e-30)));
+                    beats_flat += m.metrics.mse < flat_oracle_mse(v);
+                    level_in_band += m.field.level_in_band();
                 }
         auto ms = [](const std::vector<double> &x) {
             const Stats s = stats(x);
             return OrderedJson{{"mean", s.mean}, {"std", s.std}};
         };
         summary[method] = {{"views", mse.size()}, {"mse", ms(mse)}, {"ssim", ms(ssim)}, {"psnr", ms(psnr)},
-                           {"rel_mse", ms(rel)}, {"seconds", ms(secs)}};
+                           {"rel_mse", ms(rel)}, {"seconds", ms(secs)},
+                           {"level_ratio_geomean", std::exp(stats(log_level).mean)}, {"level_in_band", level_in_band},
+                           {"chroma_error", ms(chroma)}, {"luminance_correlation", ms(corr)}, {"beats_flat_oracle", beats_flat}};
     }
     j["summary"] = summary;
     OrderedJson vs = OrderedJson::array();
     for (const auto &v : views) {
         OrderedJson mj = OrderedJson::array();
         for (const auto &m : v.methods)
-            mj.push_back({{"method", m.method}, {"metrics", metrics_json(m.metrics)}, {"seconds", m.seconds}, {"spp", m.spp}});
+            mj.push_back({{"method", m.method}, {"metrics", metrics_json(m)}, {"seconds", m.seconds}, {"spp", m.spp}});
         vs.push_back({{"scene", v.scene}, {"view", v.view}, {"pixels", v.pixels},
                       {"reference_seconds", v.reference_seconds}, {"reference_cached", v.reference_cached}, {"methods", mj}});
     }
@@ -211,7 +231,8 @@ OrderedJson EvalReport::to_json() const {
 std::string EvalReport::table_markdown() const {
     std::ostringstream o;
     const OrderedJson j = to_json();
-    o << "| method | views | MSE ↓ | SSIM ↑ | PSNR (dB) ↑ | relMSE ↓ | time (s) |\n|---|---|---|---|---|---|---|\n";
+    o << "| method | views | MSE ↓ | SSIM ↑ | PSNR (dB) ↑ | relMSE ↓ | time (s) | beats flat | level ratio (in band) | chroma err ↓ "
+         "| lum. corr ↑ |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     char buf[512];
     for (const auto &[method, s] : j["summary"].items()) {
         auto f = [&](const char *k, const char *fmt) {
@@ -220,11 +241,17 @@ std::string EvalReport::table_markdown() const {
         };
         o << "| " << method << " | " << s["views"].get<size_t>() << " | " << f("mse", "%.4f ± %.4f") << " | "
           << f("ssim", "%.3f ± %.3f") << " | " << f("psnr", "%.2f ± %.2f") << " | " << f("rel_mse", "%.3f ± %.3f")
-          << " | " << f("seconds", "%.2f ± %.2f") << " |\n";
+          << " | " << f("seconds", "%.2f ± %.2f") << " | " << s["beats_flat_oracle"].get<int>() << " | ";
+        std::snprintf(buf, sizeof buf, "%.2f (%d)", s["level_ratio_geomean"].get<double>(), s["level_in_band"].get<int>());
+        o << buf << " | " << f("chroma_error", "%.3f ± %.3f") << " | " << f("luminance_correlation", "%.2f ± %.2f") << " |\n";
     }
     o << "\nE⁺ (indirect irradiance) at one surface point per pixel, " << options.width << "×" << options.height
       << ", reference " << options.ref_spp << " spp. MSE/PSNR/SSIM on images divided by the reference's "
-      << "99th-percentile luminance and clamped to [0, 1]; relMSE on linear HDR. mean ± std over views.\n";
+      << "99th-percentile luminance and clamped to [0, 1]; relMSE on linear HDR. mean ± std over views. "
+      << "beats flat: views where the MSE is below the flat oracle's (every pixel the reference's mean colour). "
+      << "level ratio: geometric mean over views of mean Y(method)/mean Y(reference), in band: views within "
+      << "[0.8, 1.25]. chroma err: RMS of centred log channel means against the reference. lum. corr: Pearson "
+      << "correlation of per-pixel luminance (eval/field_metrics.h).\n";
     return o.str();
 }
 

@@ -123,4 +123,20 @@ void store_cached_reference(const std::string &dir, const std::string &key, cons
     write_file_atomic(dir + "/" + key + ".json", j.dump(2) + "\n");
 }
 
+CachedReference reference_irradiance(const std::string &dir, const Scene &scene, const Camera &camera, const GBuffer &gb,
+                                     const PathTracer &pt, const PathTracerConfig &cfg, int spp,
+                                     const OrderedJson &provenance, bool *from_cache) {
+    if (from_cache) *from_cache = false;
+    const std::string key = dir.empty() ? "" : reference_cache_key(scene, camera, spp, cfg);
+    if (!key.empty())
+        if (auto cached = load_cached_reference(dir, key, camera.width, camera.height)) {
+            if (from_cache) *from_cache = true;
+            return std::move(*cached);
+        }
+    const IrradianceImages r = irradiance_images(pt, gb, spp, true);
+    CachedReference ref{r.indirect, r.seconds};
+    if (!key.empty()) store_cached_reference(dir, key, ref, provenance);
+    return ref;
+}
+
 }  // namespace ltm

@@ -38,14 +38,16 @@ std::vector<std::string> scene_range_warnings(const Scene &scene) {
     return w;
 }
 
+PointSet sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed) {
+    SampleFilter filter;
+    if (exclude_enclosed) filter = enclosed_filter(accel);
+    return to_scene_points(sample_surface(accel.scene(), n_points, seed, SampleStream::scene_points, filter));
+}
+
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed) {
     EncodedScene enc;
     auto t = Clock::now();
-    SampleFilter filter;
-    if (exclude_enclosed) filter = enclosed_filter(accel);
-    const PointSet sp = to_scene_points(
-        sample_surface(accel.scene(), model->cfg.scene_points, seed, SampleStream::scene_points, filter));
-    const auto points = point_tensor(sp);
+    const auto points = point_tensor(sample_scene_points(accel, model->cfg.scene_points, seed, exclude_enclosed));
     enc.n_scene_points = points.size(0);
     enc.sample_seconds = seconds_since(t);
     t = Clock::now();
@@ -58,6 +60,10 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
         enc.latents = model->encode(points, g);
     }
     enc.encode_seconds = seconds_since(t);
+    const SceneNormalization &n = enc.latents.norm;
+    log_debug("scene frame: length unit ℓ = ", n.length.item<float>(), ", emission scale S = (", n.emission[0].item<float>(), ", ",
+              n.emission[1].item<float>(), ", ", n.emission[2].item<float>(), "), output scale = (", n.output[0].item<float>(), ", ",
+              n.output[1].item<float>(), ", ", n.output[2].item<float>(), ")");
     return enc;
 }
 

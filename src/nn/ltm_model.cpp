@@ -3,6 +3,8 @@
 
 #include <chrono>
 
+#include "ltm/core/error.h"
+#include "ltm/core/math.h"
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
 
@@ -16,17 +18,59 @@ torch::Tensor bounding_box_center(const torch::Tensor &positions) {
     return 0.5f * (std::get<0>(positions.min(0)) + std::get<0>(positions.max(0)));
 }
 
-torch::Tensor normalize_scene_points(const torch::Tensor &sp, const torch::Tensor &center) {
-    TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
-    TORCH_CHECK(torch::isfinite(sp).all().item<bool>(), "scene points contain NaN or Inf");
-    TORCH_CHECK((sp.slice(1, 9, 12) >= 0).all().item<bool>(), "scene point emission must be >= 0");
-    return torch::cat({sp.slice(1, 0, 3) - center, sp.slice(1, 3, 9), torch::log1p(sp.slice(1, 9, 12))}, 1);
+torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces) {
+    // Σ_{k=1..D} ρ^k, summed term by term: exact at ρ = 1 (= D) where the geometric formula divides by 0.
+    const auto r = rho.clamp(0.0, 1.0);
+    auto term = torch::ones_like(r), sum = torch::zeros_like(r);
+    for (int k = 0; k < bounces; ++k) {
+        term = term * r;
+        sum = sum + term;
+    }
+    return sum;
 }
 
-torch::Tensor normalize_query_points(const torch::Tensor &qp, const torch::Tensor &center) {
+SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics) {
+    TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
+    if (!torch::isfinite(sp).all().item<bool>()) LTM_THROW("scene points contain NaN or Inf");
+    if (!(sp.slice(1, 9, 12) >= 0).all().item<bool>()) LTM_THROW("scene point emission must be >= 0");
+    const auto opts = sp.options();
+    SceneNormalization n;
+    const auto pos = sp.slice(1, 0, 3);
+    n.center = bounding_box_center(pos);
+    n.length = torch::ones({}, opts);
+    if (physics.length_scale) {
+        // ℓ = mean |p_j − p_centre| over every (FPS centre, group member) pair: equivariant with the unit.
+        const auto c = pos.index_select(0, geometry.centers).unsqueeze(1);                               // [m, 1, 3]
+        const auto g = pos.index_select(0, geometry.groups.reshape(-1)).view({geometry.groups.size(0), -1, 3});   // [m, k, 3]
+        n.length = (g - c).norm(2, -1).mean();
+        const double l = n.length.item<double>();
+        if (!(l > 0.0) || !std::isfinite(l))
+            LTM_THROW("scene points have zero extent (mean neighbour distance ", l, "): no length scale");
+    }
+    n.emission = torch::ones({3}, opts);
+    n.output = torch::ones({3}, opts);
+    if (physics.emission_scale) {
+        // S_c = π · mean_j e_jc: the scene points are area-uniform, so this is Φ_c / A.
+        n.emission = k_pi * sp.slice(1, 9, 12).mean(0);
+        // No emission among the scene points: S = 0, so E⁺ = 0 (no light, no indirect light).
+        n.output = n.emission;
+        if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(sp.slice(1, 6, 9).mean(0), physics.prior_bounces);
+    }
+    return n;
+}
+
+torch::Tensor normalize_scene_points(const torch::Tensor &sp, const SceneNormalization &n) {
+    TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
+    const auto e = sp.slice(1, 9, 12);
+    // A channel without emission (S_c = 0) stays 0 rather than 0/0.
+    const auto e_norm = torch::where(n.emission > 0, e / n.emission.clamp_min(1e-30), torch::zeros_like(e));
+    return torch::cat({(sp.slice(1, 0, 3) - n.center) / n.length, sp.slice(1, 3, 9), torch::log1p(e_norm)}, 1);
+}
+
+torch::Tensor normalize_query_points(const torch::Tensor &qp, const SceneNormalization &n) {
     TORCH_CHECK(qp.dim() == 2 && qp.size(1) == 9, "query points must be [N, 9], got ", qp.sizes());
-    TORCH_CHECK(torch::isfinite(qp).all().item<bool>(), "query points contain NaN or Inf");
-    return torch::cat({qp.slice(1, 0, 3) - center, qp.slice(1, 3, 9)}, 1);
+    if (!torch::isfinite(qp).all().item<bool>()) LTM_THROW("query points contain NaN or Inf");
+    return torch::cat({(qp.slice(1, 0, 3) - n.center) / n.length, qp.slice(1, 3, 9)}, 1);
 }
 
 LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
@@ -48,8 +92,8 @@ SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) co
 
 SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry) {
     SceneLatents out;
-    out.center = bounding_box_center(scene_points.slice(1, 0, 3));
-    const auto x = normalize_scene_points(scene_points, out.center);
+    out.norm = scene_normalization(scene_points, geometry, cfg.physics);
+    const auto x = normalize_scene_points(scene_points, out.norm);
     const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     out.features = encoder->forward(tokens, out.anchors);                         // [m, C]
@@ -58,12 +102,12 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
 
 torch::Tensor LtmModelImpl::decode_with_neighbors(const torch::Tensor &query_points, const SceneLatents &latents,
                                                   const torch::Tensor &idx) {
-    const auto q = normalize_query_points(query_points, latents.center);
+    const auto q = normalize_query_points(query_points, latents.norm);
     return decoder->forward(q, latents.features, latents.anchors, idx);
 }
 
 torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents) {
-    const auto q = normalize_query_points(query_points, latents.center);
+    const auto q = normalize_query_points(query_points, latents.norm);
     const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
     return decoder->forward(q, latents.features, latents.anchors, idx);
@@ -85,17 +129,17 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     for (int64_t s = 0; s < query_points.size(0); s += chunk) {
         const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
         if (!fused) {
-            parts.push_back(torch::expm1(decode(qp, latents)));
+            parts.push_back(irradiance_from_z(decode(qp, latents), latents));
             continue;
         }
-        const auto q = normalize_query_points(qp, latents.center);
+        const auto q = normalize_query_points(qp, latents.norm);
         const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
         local.decode += since(t);
         t = clock::now();
         const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
         local.knn += since(t);
         t = clock::now();
-        parts.push_back(torch::expm1(fused->forward(q, latents.anchors, idx)));
+        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), latents));
     }
     auto out = parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
     local.decode += since(t);
@@ -107,6 +151,22 @@ int64_t LtmModelImpl::n_parameters() const {
     int64_t n = 0;
     for (const auto &p : parameters()) n += p.numel();
     return n;
+}
+
+torch::Tensor irradiance_from_z(const torch::Tensor &z, const SceneLatents &latents) {
+    return latents.norm.output * torch::expm1(z);
+}
+
+torch::Tensor normalized_target(const torch::Tensor &target, const SceneLatents &latents) {
+    const auto &s = latents.norm.output;
+    return torch::where(s > 0, target / s.clamp_min(1e-30), torch::zeros_like(target));
+}
+
+torch::Tensor relative_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, double eps) {
+    TORCH_CHECK(pred.sizes() == target.sizes(), "loss: prediction ", pred.sizes(), " and target ", target.sizes(), " differ");
+    const auto p = pred.detach();
+    const auto den = p + eps * p.mean() + 1e-12;   // + 1e-12: an all-zero prediction still has a finite loss
+    return ((pred - target) / den).pow(2).mean();
 }
 
 torch::Tensor relative_l2_log_loss(const torch::Tensor &z, const torch::Tensor &target, double eps) {

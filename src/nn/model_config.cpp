@@ -44,6 +44,19 @@ ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
         c.encoder = PTv3Config::from_json(enc, o.where("encoder"));
     }
     c.encoder.in_channels = c.embedding.dim;
+    c.physics = PhysicsConfig::legacy();   // v0.3 configs and weights have no "physics" object
+    if (o.has("physics")) {
+        JsonObject ph = o.require_object("physics");
+        c.physics = PhysicsConfig{};
+        c.physics.emission_scale = ph.get_bool("emission_scale", c.physics.emission_scale);
+        c.physics.length_scale = ph.get_bool("length_scale", c.physics.length_scale);
+        c.physics.prior_bounces = ph.get_int("prior_bounces", c.physics.prior_bounces);
+        ph.finish();
+        if (c.physics.prior_bounces < 0 || c.physics.prior_bounces > 64)
+            LTM_THROW(ph.where("prior_bounces"), ": must be in [0, 64]");
+        if (c.physics.prior_bounces > 0 && !c.physics.emission_scale)
+            LTM_THROW(ph.where("prior_bounces"), ": the power-balance prior needs emission_scale");
+    }
     o.finish();
     if (c.n_anchors() < c.decoder.n_neighbors)
         LTM_THROW(where, ": ", c.n_anchors(), " anchors are fewer than decoder.n_neighbors = ", c.decoder.n_neighbors);
@@ -64,6 +77,9 @@ OrderedJson ModelConfig::to_json() const {
     j["encoder"] = enc;
     j["decoder"] = {{"type", decoder.type}, {"dim", decoder.dim}, {"n_neighbors", decoder.n_neighbors},
                     {"n_layers", decoder.n_layers}, {"groups", decoder.groups}};
+    if (physics.any())
+        j["physics"] = {{"emission_scale", physics.emission_scale}, {"length_scale", physics.length_scale},
+                        {"prior_bounces", physics.prior_bounces}};
     return j;
 }
 

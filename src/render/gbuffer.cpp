@@ -81,6 +81,14 @@ Image scatter_to_image(const GBuffer &gb, const std::vector<Vec3f> &per_hit) {
     return img;
 }
 
+std::vector<Vec3f> gather_hits(const GBuffer &gb, const Image &img) {
+    if (img.width != gb.width || img.height != gb.height)
+        LTM_THROW("gather_hits: image ", img.width, "x", img.height, " for a ", gb.width, "x", gb.height, " G-buffer");
+    std::vector<Vec3f> out(gb.n_hits());
+    for (size_t k = 0; k < out.size(); ++k) out[k] = img.pixels[size_t(gb.hit_pixels[k])];
+    return out;
+}
+
 RenderedImage compose_image(const GBuffer &gb, const Image &direct, const Image &indirect, int64_t *n_conductor) {
     if (direct.width != gb.width || direct.height != gb.height || indirect.width != gb.width || indirect.height != gb.height)
         LTM_THROW("compose: irradiance images do not match the G-buffer's ", gb.width, "x", gb.height);

@@ -12,6 +12,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/rng.h"
+#include "ltm/eval/field_metrics.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/train/augment.h"
@@ -30,6 +31,9 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     c.warmup_steps = o.get_int("warmup_steps", c.warmup_steps);
     c.weight_decay = o.get_float("weight_decay", c.weight_decay);
     c.grad_clip = o.get_float("grad_clip", c.grad_clip);
+    c.loss = o.get_string("loss", c.loss);
+    if (c.loss != "relative-l2" && c.loss != "log-relative-l2")
+        LTM_THROW(o.where("loss"), ": '", c.loss, "' is not one of relative-l2, log-relative-l2");
     c.loss_eps = o.get_float("loss_eps", c.loss_eps);
     c.val_fraction = o.get_float("val_fraction", c.val_fraction);
     c.val_scenes = o.get_int("val_scenes", c.val_scenes);
@@ -37,8 +41,8 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     c.val_every = o.get_int("val_every", c.val_every);
     c.augment = o.get_bool("augment", c.augment);
     c.select_by = o.get_string("select_by", c.select_by);
-    if (c.select_by != "val_loss" && c.select_by != "val_mse_log")
-        LTM_THROW(o.where("select_by"), ": '", c.select_by, "' is not one of val_loss, val_mse_log");
+    if (c.select_by != "val_loss" && c.select_by != "val_mse_log" && c.select_by != "val_mse_vs_flat")
+        LTM_THROW(o.where("select_by"), ": '", c.select_by, "' is not one of val_loss, val_mse_log, val_mse_vs_flat");
     c.ckpt_every = o.get_int("ckpt_every", c.ckpt_every);
     c.log_every = o.get_int("log_every", c.log_every);
     c.seed = uint64_t(o.get_int("seed", int(c.seed)));
@@ -53,7 +57,7 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
 OrderedJson TrainConfig::to_json() const {
     return {{"steps", steps}, {"batch_queries", batch_queries}, {"lr", json_float(lr)}, {"min_lr_ratio", json_float(min_lr_ratio)},
             {"warmup_steps", warmup_steps}, {"weight_decay", json_float(weight_decay)}, {"grad_clip", json_float(grad_clip)},
-            {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
+            {"loss", loss}, {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
             {"val_queries", val_queries}, {"val_every", val_every}, {"augment", augment}, {"select_by", select_by}, {"ckpt_every", ckpt_every},
             {"log_every", log_every}, {"seed", seed}};
 }
@@ -66,14 +70,23 @@ double learning_rate(const TrainConfig &c, int64_t step) {
 }
 
 Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::vector<std::string> &data_dirs,
-                 const std::string &out_dir, torch::Device device)
+                 const std::string &out_dir, torch::Device device, const std::vector<std::string> &val_dirs)
     : m_model_cfg(model_cfg), m_cfg(cfg), m_out(out_dir), m_device(device) {
     const auto records = list_records(data_dirs);
     if (records.empty()) LTM_THROW(data_dirs.front(), ": no dataset records (scene-*.safetensors)");
-    size_t n_val = size_t(std::floor(double(records.size()) * double(cfg.val_fraction)));
-    if (cfg.val_fraction > 0.f && records.size() >= 2) n_val = std::max<size_t>(1, n_val);
-    m_train_paths.assign(records.begin(), records.end() - std::ptrdiff_t(n_val));
-    m_val_paths.assign(records.end() - std::ptrdiff_t(n_val), records.end());
+    if (!val_dirs.empty()) {
+        m_train_paths = records;
+        m_val_paths = list_records(val_dirs);
+        if (m_val_paths.empty()) LTM_THROW(val_dirs.front(), ": no validation records (scene-*.safetensors)");
+        std::vector<std::string> all = data_dirs;
+        all.insert(all.end(), val_dirs.begin(), val_dirs.end());
+        list_records(all);   // throws, naming both files, if a seed validates and trains
+    } else {
+        size_t n_val = size_t(std::floor(double(records.size()) * double(cfg.val_fraction)));
+        if (cfg.val_fraction > 0.f && records.size() >= 2) n_val = std::max<size_t>(1, n_val);
+        m_train_paths.assign(records.begin(), records.end() - std::ptrdiff_t(n_val));
+        m_val_paths.assign(records.end() - std::ptrdiff_t(n_val), records.end());
+    }
     if (m_val_paths.size() > size_t(cfg.val_scenes)) m_val_paths.resize(size_t(cfg.val_scenes));
     // The model must match the data: same M, and a record of the expected format.
     const SceneRecord first = read_record(m_train_paths.front());
@@ -147,12 +160,12 @@ TrainStepLog Trainer::train_step() {
     m_opt->zero_grad();
     const SceneLatents lat = m_model->encode(scene_points, sc.geometry);
     const auto z = m_model->decode(queries, lat);
-    const auto loss = relative_l2_log_loss(z, sc.target.index_select(0, idx), m_cfg.loss_eps);
-    TrainStepLog log{t, loss.item<double>(), lr, 0.0, false};
+    const auto l = loss(z, sc.target.index_select(0, idx), lat);
+    TrainStepLog log{t, l.item<double>(), lr, 0.0, false};
     if (!std::isfinite(log.loss)) {
         log.skipped = true;
     } else {
-        loss.backward();
+        l.backward();
         log.grad_norm = torch::nn::utils::clip_grad_norm_(m_model->parameters(), m_cfg.grad_clip);
         if (!std::isfinite(log.grad_norm)) log.skipped = true;
         else m_opt->step();
@@ -165,24 +178,69 @@ TrainStepLog Trainer::train_step() {
     return log;
 }
 
+torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target, const SceneLatents &latents) const {
+    const auto y = normalized_target(target, latents);
+    if (m_cfg.loss == "log-relative-l2") return relative_l2_log_loss(z, y, m_cfg.loss_eps);
+    return relative_l2_loss(torch::expm1(z), y, m_cfg.loss_eps);
+}
+
+namespace {
+std::vector<float> cpu_floats(const torch::Tensor &t) {
+    const auto c = t.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    return {c.data_ptr<float>(), c.data_ptr<float>() + c.numel()};
+}
+}  // namespace
+
+OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
+    const auto qp = sc.query_points.slice(0, 0, nq);
+    const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry));
+    const double mean = base.abs().mean().item<double>() + 1e-30;
+    // Emission ×4: E⁺ ×4 (bit-exact for a power of two when emission_scale is on).
+    auto sp4 = sc.scene_points.clone();
+    sp4.slice(1, 9, 12).mul_(4.0);
+    const auto e4 = m_model->predict_irradiance(qp, m_model->encode(sp4, sc.geometry));
+    // Lengths ×10 (positions of scene and query points): E⁺ unchanged. FPS/kNN are recomputed.
+    auto sp10 = sc.scene_points.clone(), qp10 = qp.clone();
+    sp10.slice(1, 0, 3).mul_(10.0);
+    qp10.slice(1, 0, 3).mul_(10.0);
+    SceneGeometry g10 = m_model->scene_geometry(sp10.cpu());
+    g10.centers = g10.centers.to(m_device), g10.groups = g10.groups.to(m_device);
+    const auto e10 = m_model->predict_irradiance(qp10, m_model->encode(sp10, g10));
+    return {{"val_emission_x4_error", (e4 - 4.0 * base).abs().mean().item<double>() / (4.0 * mean)},
+            {"val_unit_x10_error", (e10 - base).abs().mean().item<double>() / mean}};
+}
+
 double Trainer::validate() {
     if (m_val_paths.empty()) return NAN;
     torch::NoGradGuard no_grad;
     m_model->eval();
-    double sum = 0, sum_mse = 0;
+    double sum = 0, sum_mse = 0, chroma = 0, corr = 0, vs_flat = 0, log_level = 0;
+    int in_band = 0, beats = 0;
     for (size_t i = 0; i < m_val_paths.size(); ++i) {
         CachedScene &sc = scene(m_train_paths.size() + i);
         const int64_t nq = std::min<int64_t>(m_cfg.val_queries, sc.query_points.size(0));
         const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry);
         const auto z = m_model->decode(sc.query_points.slice(0, 0, nq), lat);
         const auto target = sc.target.slice(0, 0, nq);
-        sum += relative_l2_log_loss(z, target, m_cfg.loss_eps).item<double>();
-        // Plain MSE of z = log1p(E⁺): not dominated by a few dark points the way the relative loss is.
-        sum_mse += (z - torch::log1p(target)).pow(2).mean().item<double>();
+        const auto pred = irradiance_from_z(z, lat);
+        sum += loss(z, target, lat).item<double>();
+        // Plain MSE of log1p(E⁺): not dominated by a few dark points the way a relative loss is.
+        sum_mse += (torch::log1p(pred) - torch::log1p(target)).pow(2).mean().item<double>();
+        const auto p = cpu_floats(pred), r = cpu_floats(target);
+        const FieldMetrics f = compare_fields(p.data(), r.data(), size_t(nq));
+        log_level += std::log(std::max(f.level_ratio, 1e-30));
+        in_band += f.level_in_band(), beats += f.beats_flat();
+        chroma += f.chroma_error, corr += f.luminance_correlation;
+        vs_flat += f.mse / std::max(f.flat_mse, 1e-30);
     }
-    m_val_mse_log = sum_mse / double(m_val_paths.size());
+    const double n = double(m_val_paths.size());
+    m_val_mse_log = sum_mse / n;
+    m_val_physics = {{"val_mse_vs_flat", vs_flat / n}, {"val_beats_flat", double(beats) / n},
+                     {"val_level_ratio_geomean", std::exp(log_level / n)}, {"val_level_in_band", double(in_band) / n},
+                     {"val_chroma_error", chroma / n}, {"val_luminance_corr", corr / n}};
+    m_val_physics.update(invariance_errors(scene(m_train_paths.size()), std::min<int64_t>(m_cfg.val_queries, 4096)));
     m_model->train();
-    return sum / double(m_val_paths.size());
+    return sum / n;
 }
 
 void Trainer::run(bool resume, int64_t stop_at) {
@@ -236,11 +294,15 @@ void Trainer::run(bool resume, int64_t stop_at) {
         }
         if (m_step % m_cfg.val_every == 0 || m_step == m_cfg.steps) {
             const double v = validate();
-            log << OrderedJson({{"step", m_step - 1}, {"val_loss", v}, {"val_mse_log", m_val_mse_log}}).dump() << "\n"
-                << std::flush;
-            log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, " (", m_val_paths.size(),
-                     " held-out scenes)");
-            const double score = m_cfg.select_by == "val_mse_log" ? m_val_mse_log : v;
+            OrderedJson vj = {{"step", m_step - 1}, {"val_loss", v}, {"val_mse_log", m_val_mse_log}};
+            vj.update(m_val_physics);
+            log << vj.dump() << "\n" << std::flush;
+            log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, ", MSE/flat oracle ",
+                     m_val_physics.value("val_mse_vs_flat", NAN), ", level ratio ", m_val_physics.value("val_level_ratio_geomean", NAN),
+                     ", chroma error ", m_val_physics.value("val_chroma_error", NAN), " (", m_val_paths.size(), " held-out scenes)");
+            const double score = m_cfg.select_by == "val_mse_log"       ? m_val_mse_log
+                                 : m_cfg.select_by == "val_mse_vs_flat" ? m_val_physics.value("val_mse_vs_flat", NAN)
+                                                                        : v;
             if (std::isfinite(score) && score < m_best_val) {
                 m_best_val = score;
                 save(best);

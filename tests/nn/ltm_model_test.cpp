@@ -67,7 +67,7 @@ TEST(LtmModel, ForeignWeightsAndBadInputsAreErrors) {
     EXPECT_THROW(load_weights(dir.path("missing.safetensors")), Error);
     auto nan = f.sp.clone();
     nan[3][0] = NAN;
-    EXPECT_THROW(tiny->encode(nan, tiny->scene_geometry(f.sp)), c10::Error);
+    EXPECT_THROW(tiny->encode(nan, tiny->scene_geometry(f.sp)), Error);   // user data: ltm::Error, one line
     EXPECT_THROW(tiny->scene_geometry(f.sp.slice(1, 0, 9)), c10::Error);
 }
 

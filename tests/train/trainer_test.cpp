@@ -1,5 +1,6 @@
 // trainer_test.cpp: exact resume, the tiny model overfits one scene, schedule shape.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -72,6 +73,45 @@ TEST(Trainer, ResumeRepeatsTheUninterruptedLossSequence) {
     EXPECT_THROW(Trainer(mc, small_train(6), {dataset_dir()}, dir.path("full")).run(false), Error);   // would overwrite
 }
 
+// Validation logs the floors and the physics: the exact model's emission ×4 and unit ×10 errors
+// are float rounding, its metrics are finite, and the flat-oracle ratio is what select_by uses.
+TEST(Trainer, ValidationReportsPhysicsAndTheFlatOracle) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    TrainConfig t = small_train(2);
+    t.select_by = "val_mse_vs_flat";
+    Trainer trainer(mc, t, {dataset_dir()}, dir.path("run"));
+    trainer.run(false);
+    EXPECT_TRUE(std::isfinite(trainer.validate()));
+    const OrderedJson &p = trainer.val_physics();
+    for (const char *key : {"val_mse_vs_flat", "val_beats_flat", "val_level_ratio_geomean", "val_level_in_band",
+                            "val_chroma_error", "val_luminance_corr"})
+        EXPECT_TRUE(p.contains(key) && std::isfinite(p[key].get<double>())) << key;
+    EXPECT_LT(p["val_emission_x4_error"].get<double>(), 1e-6);
+    EXPECT_LT(p["val_unit_x10_error"].get<double>(), 1e-2);
+    EXPECT_GT(p["val_mse_vs_flat"].get<double>(), 0.0);
+}
+
+// --val-data: a fixed validation set beside the training data; a seed in both is an error.
+TEST(Trainer, SeparateValidationDirectory) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    const auto records = list_records(dataset_dir());
+    ASSERT_EQ(records.size(), 2u);
+    const std::string train = dir.path("train"), val = dir.path("val");
+    std::filesystem::create_directories(train);
+    std::filesystem::create_directories(val);
+    std::filesystem::copy_file(records[0], train + "/" + std::filesystem::path(records[0]).filename().string());
+    std::filesystem::copy_file(records[1], val + "/" + std::filesystem::path(records[1]).filename().string());
+    TrainConfig t = small_train(1);
+    t.val_fraction = 0.5f;   // unused with a validation directory: the one training record stays
+    Trainer trainer(mc, t, {train}, dir.path("run"), torch::kCPU, {val});
+    trainer.run(false);
+    EXPECT_TRUE(std::isfinite(trainer.validate()));
+    EXPECT_THROW(Trainer(mc, t, {dataset_dir()}, dir.path("run2"), torch::kCPU, {val}), Error);   // seed 12 twice
+    EXPECT_THROW(Trainer(mc, t, {train}, dir.path("run3"), torch::kCPU, {dir.path("empty")}), Error);
+}
+
 // The tiny model memorises one scene: the loss falls at least 10× within a minute.
 TEST(Trainer, TinyModelOverfitsOneScene) {
     test::TempDir dir;
@@ -118,4 +158,8 @@ TEST(Trainer, DefaultConfigFileEqualsBuiltInDefaults) {
     EXPECT_THROW(TrainConfig::from_json(j, "t"), Error);
     j["select_by"] = "val_mse_log";
     EXPECT_EQ(TrainConfig::from_json(j, "t").select_by, "val_mse_log");
+    j["loss"] = "l1";
+    EXPECT_THROW(TrainConfig::from_json(j, "t"), Error);
+    j["loss"] = "log-relative-l2";
+    EXPECT_EQ(TrainConfig::from_json(j, "t").loss, "log-relative-l2");
 }

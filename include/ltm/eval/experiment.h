@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ltm/core/json_util.h"
+#include "ltm/eval/field_metrics.h"
 #include "ltm/eval/metrics.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/scene/scene.h"
@@ -37,10 +38,13 @@ struct EvalScene {
 };
 
 struct MethodResult {
-    std::string method;   ///< "model:<name>", "pt64", "pt-equal-time"
+    /// "model:<name>", "pt64", "pt-equal-time", "flat-oracle" (every pixel the reference's mean: a
+    /// floor, not a method), "flat-prior" (every pixel the power-balance level of the scene points)
+    std::string method;
     ImageMetrics metrics;
     double seconds = 0;   ///< the method's own time for this view
     int spp = 0;          ///< PT methods: samples per pixel
+    FieldMetrics field;   ///< level, chroma, correlation against the reference at the hit pixels
 };
 
 struct ViewResult {
@@ -56,7 +60,9 @@ struct EvalReport {
     std::vector<std::string> models;
     std::vector<ViewResult> views;
     OrderedJson to_json() const;
-    /// Markdown table like the paper's Table 1: mean ± std over all views per method.
+    /// Markdown table like the paper's Table 1: mean ± std over all views per method, with the
+    /// physics columns (level ratio in [0.8, 1.25], chroma error, luminance correlation) and the
+    /// number of views where the method's MSE is below the flat oracle's.
     std::string table_markdown() const;
 };
 

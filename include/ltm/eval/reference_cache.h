@@ -11,6 +11,7 @@
 
 #include "ltm/core/image.h"
 #include "ltm/core/json_util.h"
+#include "ltm/render/gbuffer.h"
 #include "ltm/render/path_tracer.h"
 #include "ltm/scene/camera.h"
 #include "ltm/scene/scene.h"
@@ -36,5 +37,12 @@ std::optional<CachedReference> load_cached_reference(const std::string &dir, con
 /// Writes DIR/KEY.exr (E⁺ as R, G, B) and DIR/KEY.json (seconds, provenance), both atomically.
 void store_cached_reference(const std::string &dir, const std::string &key, const CachedReference &ref,
                             const OrderedJson &provenance);
+
+/// The reference E⁺ of one view: from `dir` when it holds this exact reference (`*from_cache`
+/// true), otherwise rendered with irradiance_images(pt, gb, spp) and stored there with
+/// `provenance`. An empty `dir` always renders.
+CachedReference reference_irradiance(const std::string &dir, const Scene &scene, const Camera &camera, const GBuffer &gb,
+                                     const PathTracer &pt, const PathTracerConfig &cfg, int spp,
+                                     const OrderedJson &provenance, bool *from_cache = nullptr);
 
 }  // namespace ltm

@@ -8,6 +8,7 @@
 
 #include "ltm/core/json_util.h"
 #include "ltm/nn/ltm_model.h"
+#include "ltm/points/point_set.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/gi_upsample.h"
 
@@ -31,6 +32,9 @@ struct EncodedScene {
     int64_t n_scene_points = 0;
     double sample_seconds = 0, geometry_seconds = 0, encode_seconds = 0;
 };
+/// M scene points [M, 12] sampled exactly as `ltm dataset build` does (same sampler, stream and
+/// enclosed-surface filter) with `seed`.
+PointSet sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed = true);
 /// Samples the model's M scene points exactly as `ltm dataset build` does (same sampler, stream
 /// and enclosed-surface filter) with `seed`, then FPS/kNN and the encoder. Independent of any camera.
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);

@@ -20,18 +20,36 @@ struct SceneGeometry {
     torch::Tensor groups;    ///< [m, k] int64
 };
 
+/// A scene's exact normalisations (PhysicsConfig): what the network's inputs are divided by and
+/// what its output is multiplied by. Every field is a pure function of the scene points (and
+/// their FPS/kNN groups), so the encoder and the decoder see the same frame.
+struct SceneNormalization {
+    torch::Tensor center;     ///< [3] bounding-box centre, subtracted from every position
+    torch::Tensor length;     ///< [] ℓ: positions are divided by it (1 when length_scale is off)
+    torch::Tensor emission;   ///< [3] S_c: emission is divided by it (1 when emission_scale is off; 0 for a dark channel)
+    torch::Tensor output;     ///< [3] E⁺ = output · expm1(z) (S_c · Σ_{k=1..D} ρ̄_c^k with the prior; 1 when off)
+};
+
 /// What the encoder leaves for the decoder.
 struct SceneLatents {
     torch::Tensor features;  ///< [m, C]
-    torch::Tensor anchors;   ///< [m, 3] anchor positions, normalised (scene-centred) frame
-    torch::Tensor center;    ///< [3] the scene centre subtracted from every position
+    torch::Tensor anchors;   ///< [m, 3] anchor positions in the normalised frame ((p − centre) / ℓ)
+    SceneNormalization norm; ///< the frame the anchors and every query are expressed in
 };
 
-/// Scene-centred model inputs (ARCHITECTURE.md §6): p − centre (metres), n, albedo,
-/// log1p(emission).   scene_points [M, 12] -> [M, 12];  center [3] = bounding-box centre.
-torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const torch::Tensor &center);
-torch::Tensor normalize_query_points(const torch::Tensor &query_points, const torch::Tensor &center);
+/// The scene's normalisation (ARCHITECTURE.md §6, PhysicsConfig).
+///   scene_points [M, 12] raw, geometry of the same points -> SceneNormalization
+/// Throws ltm::Error on non-finite points, negative emission or a scene of zero extent.
+SceneNormalization scene_normalization(const torch::Tensor &scene_points, const SceneGeometry &geometry,
+                                       const PhysicsConfig &physics);
+/// Model inputs in the normalised frame: (p − centre)/ℓ, n, albedo, log1p(e / S).
+///   scene_points [M, 12] -> [M, 12]
+torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const SceneNormalization &norm);
+///   query_points [N, 9] -> [N, 9]: (p − centre)/ℓ, n, albedo
+torch::Tensor normalize_query_points(const torch::Tensor &query_points, const SceneNormalization &norm);
 torch::Tensor bounding_box_center(const torch::Tensor &positions);
+/// Σ_{k=1..D} ρ^k per channel (closed-form enclosure power balance; ρ clamped to [0, 1]).  rho [3] -> [3]
+torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces);
 
 /// Where predict_irradiance spends its time (seconds, accumulated over chunks).
 struct PredictTimings {
@@ -46,12 +64,12 @@ struct LtmModelImpl : torch::nn::Module {
     SceneGeometry scene_geometry(const torch::Tensor &scene_points) const;
     //   scene_points [M, 12] raw -> latents at m anchors
     SceneLatents encode(const torch::Tensor &scene_points, const SceneGeometry &geometry);
-    //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺); kNN among anchors computed here
+    //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺ / latents.norm.output); kNN among anchors computed here
     torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents);
     //   the same with precomputed anchor neighbours idx [N, κ]
     torch::Tensor decode_with_neighbors(const torch::Tensor &query_points, const SceneLatents &latents,
                                         const torch::Tensor &idx);
-    /// Inference in chunks (no autograd): E⁺ = expm1(z).  query [N, 9] -> [N, 3].
+    /// Inference in chunks (no autograd): E⁺ = norm.output · expm1(z).  query [N, 9] -> [N, 3].
     /// On CPU the "attention" decoder runs as a FusedDecoder, built from the current weights at every
     /// call (a few ms, so it never sees stale weights) unless fused_inference is false. The fused
     /// kernel tiles internally, so large chunks cost nothing and avoid per-chunk thread start-up;
@@ -68,8 +86,22 @@ struct LtmModelImpl : torch::nn::Module {
 };
 TORCH_MODULE(LtmModel);
 
-/// Relative L2 in log space (paper §5, NRC): mean(((z − log1p(y)) / (stopgrad(z) + ε))²).
+/// E⁺ from the decoder's output: output · expm1(z).   z [N, 3], latents -> [N, 3]
+torch::Tensor irradiance_from_z(const torch::Tensor &z, const SceneLatents &latents);
+/// Targets in the decoder's output frame: y / output (0 where a channel's output scale is 0).
+///   target [N, 3] -> [N, 3]
+torch::Tensor normalized_target(const torch::Tensor &target, const SceneLatents &latents);
+
+/// Relative L2 in log space (paper §5, v0.3's loss): mean(((z − log1p(y)) / (stopgrad(z) + ε))²).
+/// Its minimiser is not the mean of noisy targets (log of a noisy mean is biased).
 ///   z [N, 3] >= 0, target [N, 3] (E⁺ >= 0) -> scalar
 torch::Tensor relative_l2_log_loss(const torch::Tensor &z, const torch::Tensor &target, double eps = 1e-2);
+/// Relative L2 in linear space with a detached denominator (neural radiance caching):
+///   mean((ŷ − y)² / (stopgrad(ŷ) + ε · mean(stopgrad(ŷ)))²).
+/// The denominator does not depend on y, so the minimiser is E[y | x]: noisy (low-spp) targets
+/// train an unbiased model. ε is relative to the batch mean, so the loss is invariant to a common
+/// scale of ŷ and y (emission, and the per-scene output scale).
+///   pred [N, 3] >= 0, target [N, 3] -> scalar
+torch::Tensor relative_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, double eps = 1.0);
 
 }  // namespace ltm

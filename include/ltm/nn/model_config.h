@@ -26,12 +26,34 @@ struct DecoderConfig {
     int groups = 8;                  ///< G weight groups of grouped vector attention (PTv2)
 };
 
+/// Exact physical normalisations (docs/model.md, "Physics by construction"). Light transport is
+/// linear in emission and irradiance from fixed radiance does not depend on the unit of length, so
+/// the network only ever sees a scene with its emission and lengths divided out, and its output is
+/// multiplied back. A config without a "physics" object is a v0.3 model: legacy(), all off.
+struct PhysicsConfig {
+    /// Emission enters as e_c / S_c and the output is multiplied by S_c, with
+    /// S_c = π · mean over scene points of e_c (≈ Φ_c / A: emitted power per unit scene area).
+    /// E⁺ is then exactly linear in a common scale of all emission, per colour channel in level.
+    bool emission_scale = true;
+    /// Positions enter as (p − centre) / ℓ with ℓ the mean distance of the embedding groups'
+    /// members to their FPS centre (∝ the point spacing √(A/M)); PTv3's grid_size is then in
+    /// units of ℓ. E⁺ is invariant to the unit of length (up to kNN ties under rounding).
+    bool length_scale = true;
+    /// The output is a ratio to the enclosure power balance: area-mean E⁺ ≈ S_c · Σ_{k=1..D} ρ̄_c^k
+    /// (ρ̄_c the mean albedo of the scene points), D = prior_bounces; 0 = no prior (needs emission_scale).
+    int prior_bounces = 5;
+
+    static PhysicsConfig legacy() { return {false, false, 0}; }
+    bool any() const { return emission_scale || length_scale || prior_bounces > 0; }
+};
+
 struct ModelConfig {
     std::string name = "cpu";       ///< preset name, informational
     int scene_points = 8192;        ///< M scene points the model is trained with
     EmbeddingConfig embedding;
     PTv3Config encoder;             ///< in_channels is forced to embedding.dim
     DecoderConfig decoder;
+    PhysicsConfig physics;          ///< absent from a JSON config: PhysicsConfig::legacy() (v0.3)
 
     /// Strict: unknown keys and invalid values throw "where: /pointer: problem".
     static ModelConfig from_json(const Json &j, const std::string &where);

@@ -42,6 +42,8 @@ IrradianceImages estimate_images(const GBuffer &gb, const char *label,
 
 /// Image of the G-buffer's values at hit pixels (black elsewhere).
 Image scatter_to_image(const GBuffer &gb, const std::vector<Vec3f> &per_hit);
+/// The inverse: the image's values at the hit pixels, in hit order (sizes must match).
+std::vector<Vec3f> gather_hits(const GBuffer &gb, const Image &img);
 
 /// Le + albedo/π·(E_direct + E⁺) per pixel, with AOVs, in the form write_rendered_image takes.
 /// Conductor pixels are shaded as diffuse with their albedo (an approximation: the irradiance

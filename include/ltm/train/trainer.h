@@ -23,7 +23,14 @@ struct TrainConfig {
     int warmup_steps = 500;       ///< linear warm-up from 0
     float weight_decay = 0.01f;   ///< AdamW decoupled weight decay
     float grad_clip = 1.0f;       ///< max global gradient norm
-    float loss_eps = 1e-2f;       ///< ε of the relative loss denominator
+    /// "relative-l2": linear-space relative L2 with a detached denominator (unbiased with noisy,
+    /// low-spp targets); "log-relative-l2": v0.3's log-space loss. Both compare in the model's
+    /// output frame (E⁺ / SceneNormalization::output), so they are invariant to emission scale.
+    std::string loss = "relative-l2";
+    /// ε of the loss denominator: relative-l2 adds ε · batch mean of the prediction (1: points far
+    /// below the mean are weighted like absolute errors, bright ones relatively); log-relative-l2
+    /// adds ε to z (v0.3 shipped 0.1).
+    float loss_eps = 1.0f;
     float val_fraction = 0.1f;    ///< highest-seed records held out for validation (seeds disjoint)
     int val_scenes = 8;           ///< at most this many held-out scenes are evaluated
     int val_queries = 8192;       ///< first queries of each validation scene
@@ -31,8 +38,9 @@ struct TrainConfig {
     /// Each step sees its scene turned by k·90° about +y and/or mirrored (train/augment.h): 8× the
     /// scene configurations for the same records. Validation never is.
     bool augment = true;
-    /// What "best" means: "val_loss" (the training loss on held-out scenes) or "val_mse_log"
-    /// (MSE of log1p(E⁺)); the relative loss can rise from a few dark points while the images improve.
+    /// What "best" means: "val_loss" (the training loss on held-out scenes), "val_mse_log"
+    /// (MSE of log1p(E⁺)) or "val_mse_vs_flat" (mean over scenes of the model's MSE divided by the
+    /// flat oracle's, eval/field_metrics.h: below 1 beats the floor).
     std::string select_by = "val_loss";
     int ckpt_every = 250;         ///< steps between last.ltmckpt writes
     int log_every = 10;           ///< steps between JSONL log lines
@@ -54,10 +62,12 @@ struct TrainStepLog {
 class Trainer {
 public:
     /// Records of all data_dirs are split into train/validation by seed (the highest seeds
-    /// validate); out_dir receives log.jsonl, last.ltmckpt, best.ltmckpt, model.json and train.json.
+    /// validate), unless val_dirs is given: then every data_dirs record trains and val_dirs'
+    /// records validate (a fixed validation set while the training data grows; a seed in both is
+    /// an error). out_dir receives log.jsonl, last.ltmckpt, best.ltmckpt, model.json and train.json.
     Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::vector<std::string> &data_dirs,
-            const std::string &out_dir,
-            torch::Device device = torch::kCPU);
+            const std::string &out_dir, torch::Device device = torch::kCPU,
+            const std::vector<std::string> &val_dirs = {});
     /// Starts from exported weights (fine-tuning; the optimizer starts fresh). The weights'
     /// config must equal the model config.
     void init_weights(const std::string &weights_path);
@@ -69,6 +79,8 @@ public:
     LtmModel &model() { return m_model; }
     int64_t step() const { return m_step; }
     double val_mse_log() const { return m_val_mse_log; }
+    /// Physics and floor metrics of the last validation (JSON keys as in log.jsonl).
+    const OrderedJson &val_physics() const { return m_val_physics; }
 
 private:
     struct CachedScene {
@@ -78,6 +90,10 @@ private:
     };
     CachedScene &scene(size_t index);
     TrainStepLog train_step();
+    /// The configured loss in the model's output frame.   z [N, 3], target E⁺ [N, 3] -> scalar
+    torch::Tensor loss(const torch::Tensor &z, const torch::Tensor &target, const SceneLatents &latents) const;
+    /// Emission ×4 and lengths ×10 on one held-out scene: the exact invariances, measured.
+    OrderedJson invariance_errors(CachedScene &sc, int64_t n_queries);
     ModelConfig m_model_cfg;
     TrainConfig m_cfg;
     std::string m_out;
@@ -89,7 +105,8 @@ private:
     std::vector<TrainStepLog> m_history;
     int64_t m_step = 0;
     double m_best_val = 1e30;
-    double m_val_mse_log = NAN;   ///< mean((z − log1p(E⁺))²) of the last validation
+    double m_val_mse_log = NAN;   ///< mean((log1p(Ê⁺) − log1p(E⁺))²) of the last validation
+    OrderedJson m_val_physics = OrderedJson::object();
 };
 
 }  // namespace ltm
