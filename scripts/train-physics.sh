@@ -4,7 +4,9 @@
 # end) continues — dataset builds skip finished records, training resumes from last.ltmckpt.
 #   1. data/cpu-s32  seeds 0..N-1 at `cpu-s32` (16 384 queries, 32-spp labels: ~8× cheaper than
 #      256 spp; the relative-l2 loss's minimiser is the mean of noisy targets, so they train an
-#      unbiased model). The highest 1 % of seeds validate (val_fraction 0.01).
+#      unbiased model).
+#   1b. data/val-s256 seeds 100000..100007 at `cpu-q16k` (256 spp): a fixed validation set
+#      (--val-data) that stays the same while the training data grows between sessions.
 #   2. runs/cpu-phys configs/model/cpu.json (emission- and unit-normalised, power-balance prior)
 #      from scratch with configs/train/physics.json; best.ltmckpt = lowest MSE / flat-oracle MSE.
 #   3. export best.ltmckpt as F16 safetensors to $EXPORT.
@@ -13,12 +15,13 @@
 set -euo pipefail
 BUILD=${BUILD:-build}
 LTM=${LTM:-$BUILD/apps/ltm/ltm}
-SCENES=${SCENES:-1000}
+SCENES=${SCENES:-1200}
 RUN=${RUN:-runs/cpu-phys}
 EXPORT=${EXPORT:-runs/ltm-cpu-phys.safetensors}
 THREADS=${THREADS:-0}
+"$LTM" dataset build --config configs/data/cpu-q16k.json --seed-range 100000:100008 -o data/val-s256 --threads "$THREADS"
 "$LTM" dataset build --config configs/data/cpu-s32.json --seed-range "0:$SCENES" -o data/cpu-s32 --threads "$THREADS"
-train=("$LTM" train --threads "$THREADS" --model configs/model/cpu.json --data data/cpu-s32 --out "$RUN"
+train=("$LTM" train --threads "$THREADS" --model configs/model/cpu.json --data data/cpu-s32 --val-data data/val-s256 --out "$RUN"
        --config configs/train/physics.json)
 if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume; else "${train[@]}"; fi
 "$LTM" export "$RUN/best.ltmckpt" --half -o "$EXPORT" \

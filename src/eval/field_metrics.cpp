@@ -19,16 +19,17 @@ Color3d mean_color(const float *rows, size_t n) {
     return m;
 }
 
+Color3d centred_log(const Color3d &x) {
+    const double floor = 1e-6 * std::max({x[0], x[1], x[2], 1e-300});
+    Color3d l;
+    for (size_t c = 0; c < 3; ++c) l[c] = std::log(std::max(x[c], floor));
+    const double g = (l[0] + l[1] + l[2]) / 3.0;
+    for (auto &v : l) v -= g;
+    return l;
+}
+
 double chroma_error(const Color3d &a, const Color3d &b) {
-    auto centred_logs = [](const Color3d &x) {
-        const double floor = 1e-6 * std::max({x[0], x[1], x[2], 1e-300});
-        Color3d l;
-        for (size_t c = 0; c < 3; ++c) l[c] = std::log(std::max(x[c], floor));
-        const double g = (l[0] + l[1] + l[2]) / 3.0;
-        for (auto &v : l) v -= g;
-        return l;
-    };
-    const Color3d la = centred_logs(a), lb = centred_logs(b);
+    const Color3d la = centred_log(a), lb = centred_log(b);
     double s = 0;
     for (size_t c = 0; c < 3; ++c) s += (la[c] - lb[c]) * (la[c] - lb[c]);
     return std::sqrt(s / 3.0);

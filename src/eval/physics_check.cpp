@@ -45,16 +45,6 @@ double relative_difference(const std::vector<Vec3f> &a, const std::vector<Vec3f>
 
 Color3d mean_of(const std::vector<Vec3f> &v) { return mean_color(reinterpret_cast<const float *>(v.data()), v.size()); }
 
-// Centred log channel values (as chroma_error defines them): the colour with its level removed.
-Color3d centred_log(const Color3d &c) {
-    const double floor = 1e-6 * std::max({c[0], c[1], c[2], 1e-300});
-    Color3d l;
-    for (size_t i = 0; i < 3; ++i) l[i] = std::log(std::max(c[i], floor));
-    const double g = (l[0] + l[1] + l[2]) / 3.0;
-    for (auto &x : l) x -= g;
-    return l;
-}
-
 // RMS over channels of (shift of a) − (shift of b), shift = clr(after) − clr(before).
 double shift_error(const Color3d &a0, const Color3d &a1, const Color3d &b0, const Color3d &b1) {
     const Color3d la0 = centred_log(a0), la1 = centred_log(a1), lb0 = centred_log(b0), lb1 = centred_log(b1);
@@ -206,7 +196,7 @@ std::string PhysicsReport::table_markdown() const {
         for (const auto &f : furnace)
             if (f.model == name) furnace_ratio = f.predicted / f.closed_form;
         std::snprintf(buf, sizeof buf, "| %s | %d | %.2e | %.2e / %.2e | %.3f | %.3f | %.3f / %.3f | %d | %.3f |\n", name.c_str(),
-                      a.n, a.emission_max, a.length_mean, a.length_max, a.recolor_chroma / a.n, a.response / a.n,
+                      a.n, a.emission_max, a.length_mean / a.n, a.length_max, a.recolor_chroma / a.n, a.response / a.n,
                       a.blue_gap / a.n, a.blue_gap_max, a.blue_within, furnace_ratio);
         o << buf;
     }

@@ -54,3 +54,20 @@ TEST(PhysicsCheck, ExactModelPassesLegacyFailsRecolourTurnsBlue) {
     EXPECT_NE(md.find("| exact | 1 |"), std::string::npos) << md;
     EXPECT_TRUE(r.to_json()["scenes"][0].contains("emission_error"));
 }
+
+// The summary table averages over scenes and takes maxima over scenes and factors.
+TEST(PhysicsCheck, TableSummarisesOverScenes) {
+    PhysicsReport r;
+    SceneCheck a, b;
+    a.model = b.model = "m";
+    a.length_error = {{0.1f, 0.01}, {10.f, 0.03}};   // scene mean 0.02
+    b.length_error = {{0.1f, 0.05}, {10.f, 0.07}};   // scene mean 0.06
+    a.emission_error = {{4.f, 1e-7}}, b.emission_error = {{4.f, 2e-7}};
+    a.blue_share_model = 0.5, a.blue_share_ref = 0.45;   // gap 0.05: within 0.08
+    b.blue_share_model = 0.2, b.blue_share_ref = 0.4;    // gap 0.2
+    r.scenes = {a, b};
+    r.furnace = {{"m", 2.0, 4.0}};
+    const std::string md = r.table_markdown();
+    EXPECT_NE(md.find("| m | 2 | 2.00e-07 | 4.00e-02 / 7.00e-02 |"), std::string::npos) << md;
+    EXPECT_NE(md.find("| 0.125 / 0.200 | 1 | 0.500 |"), std::string::npos) << md;
+}

@@ -14,15 +14,13 @@
 #include "ltm/points/surface_sampler.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "test_util.h"
+#include "tiny_scene_fixture.h"
 
 using namespace ltm;
 
 namespace {
-struct Fixture {
-    ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
-    Scene scene = quad_light_room();
-    torch::Tensor sp = point_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 1, SampleStream::scene_points)));
-    torch::Tensor qp = point_tensor(to_query_points(sample_surface(scene, 256, 1, SampleStream::query_points)));
+struct Fixture : test::TinySceneFixture {
+    Fixture() : TinySceneFixture(256) {}
 };
 
 // A model whose output is not a constant: random decoder weights at a larger scale.

@@ -23,6 +23,10 @@ double luminance(const Color3d &c);
 /// Mean colour of n RGB rows (double accumulation).   rows [n, 3] -> Color3d
 Color3d mean_color(const float *rows, size_t n);
 
+/// Centred log channel values: log(c_i) − mean_j log(c_j), the colour with its level removed
+/// (channels floored at 1e-6 · max so a black channel stays finite).
+Color3d centred_log(const Color3d &c);
+
 /// Chroma error between two colours: the RMS over channels of the difference of centred log
 /// channel values, sqrt((1/3) Σ_c (log(a_c / ḡ(a)) − log(b_c / ḡ(b)))²), ḡ the geometric mean.
 /// Invariant to the level of either colour; 0 iff a ∝ b. Channels are floored at 1e-6 · max so a
