@@ -155,14 +155,14 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 add("pt-equal-time", eq.indirect, eq.seconds, spp_eq);
                 eq_img = eq.indirect;
             }
+            auto flat = [&](const std::array<double, 3> &c) {
+                return scatter_to_image(gb, std::vector<Vec3f>(gb.n_hits(), Vec3f{float(c[0]), float(c[1]), float(c[2])}));
+            };
             // The floor: every pixel the reference's own mean colour (eval/field_metrics.h).
-            const Color3d mean = mean_color(reinterpret_cast<const float *>(ref_hits.data()), ref_hits.size());
-            add("flat-oracle", scatter_to_image(gb, std::vector<Vec3f>(ref_hits.size(), Vec3f{float(mean[0]), float(mean[1]), float(mean[2])})),
-                0.0, 0);
+            add("flat-oracle", flat(mean_color(ref_hits)), 0.0, 0);
             // The closed-form power-balance level from the scene points alone (points/power_balance.h):
             // what the model's prior gives before the network adds anything.
-            add("flat-prior", scatter_to_image(gb, std::vector<Vec3f>(ref_hits.size(), Vec3f{float(prior[0]), float(prior[1]), float(prior[2])})),
-                prior_seconds, 0);
+            add("flat-prior", flat(prior), prior_seconds, 0);
             if (!opt.out_dir.empty()) {
                 // albedo | reference | model | PT 64 | PT equal time | |model − reference|
                 const float scale = tonemap_scale(ref);

@@ -28,6 +28,11 @@ Color3d centred_log(const Color3d &x) {
     return l;
 }
 
+Color3d mean_color(const std::vector<Vec3f> &rows) {
+    static_assert(sizeof(Vec3f) == 3 * sizeof(float), "Vec3f rows must be packed");
+    return mean_color(reinterpret_cast<const float *>(rows.data()), rows.size());
+}
+
 double chroma_error(const Color3d &a, const Color3d &b) {
     const Color3d la = centred_log(a), lb = centred_log(b);
     double s = 0;
@@ -70,7 +75,6 @@ FieldMetrics compare_fields(const float *pred, const float *ref, size_t n) {
 
 FieldMetrics compare_fields(const std::vector<Vec3f> &pred, const std::vector<Vec3f> &ref) {
     if (pred.size() != ref.size()) LTM_THROW("compare_fields: ", pred.size(), " predictions for ", ref.size(), " reference points");
-    static_assert(sizeof(Vec3f) == 3 * sizeof(float), "Vec3f rows must be packed");
     return compare_fields(reinterpret_cast<const float *>(pred.data()), reinterpret_cast<const float *>(ref.data()), pred.size());
 }
 

@@ -43,8 +43,6 @@ double relative_difference(const std::vector<Vec3f> &a, const std::vector<Vec3f>
     return den > 0 ? num / den : (num > 0 ? INFINITY : 0.0);
 }
 
-Color3d mean_of(const std::vector<Vec3f> &v) { return mean_color(reinterpret_cast<const float *>(v.data()), v.size()); }
-
 // RMS over channels of (shift of a) − (shift of b), shift = clr(after) − clr(before).
 double shift_error(const Color3d &a0, const Color3d &a1, const Color3d &b0, const Color3d &b1) {
     const Color3d la0 = centred_log(a0), la1 = centred_log(a1), lb0 = centred_log(b0), lb1 = centred_log(b1);
@@ -88,14 +86,10 @@ PhysicsReport run_physics_checks(const std::vector<EvalScene> &scenes, std::vect
         auto reference = [&](const Scene &s, const std::string &tag) {
             const EmbreeAccel a(s);
             const PathTracer pt(a, tracer);
-            return mean_color(reinterpret_cast<const float *>(
-                                  gather_hits(gb, reference_irradiance(opt.ref_cache_dir, s, cam, gb, pt, tracer, opt.ref_spp,
-                                                                       {{"scene", es.name + tag}, {"view", cam.name},
-                                                                        {"width", cam.width}, {"height", cam.height},
-                                                                        {"spp", opt.ref_spp}})
-                                                       .indirect)
-                                      .data()),
-                              gb.n_hits());
+            const CachedReference ref = reference_irradiance(opt.ref_cache_dir, s, cam, gb, pt, tracer, opt.ref_spp,
+                                                             {{"scene", es.name + tag}, {"view", cam.name}, {"width", cam.width},
+                                                              {"height", cam.height}, {"spp", opt.ref_spp}});
+            return mean_color(gather_hits(gb, ref.indirect));
         };
         const Color3d ref_base = reference(es.scene, ""), ref_recolored = n_recolored > 0 ? reference(recolored, "-recolored") : ref_base;
         for (auto &m : models) {
@@ -114,8 +108,8 @@ PhysicsReport run_physics_checks(const std::vector<EvalScene> &scenes, std::vect
                 for (Vec3f &p : g.position) p = p * f;
                 c.length_error.emplace_back(f, relative_difference(predict(m.model, s, g, opt), base, 1.f));
             }
-            c.model_base = mean_of(base);
-            c.model_recolored = n_recolored > 0 ? mean_of(predict(m.model, recolored, gb, opt)) : c.model_base;
+            c.model_base = mean_color(base);
+            c.model_recolored = n_recolored > 0 ? mean_color(predict(m.model, recolored, gb, opt)) : c.model_base;
             c.ref_base = ref_base, c.ref_recolored = ref_recolored;
             c.recolor_chroma_error = chroma_error(c.model_recolored, c.ref_recolored);
             c.response_error = shift_error(c.model_base, c.model_recolored, c.ref_base, c.ref_recolored);
@@ -131,7 +125,7 @@ PhysicsReport run_physics_checks(const std::vector<EvalScene> &scenes, std::vect
     double series = 0, term = 1;
     for (int k = 1; k <= opt.furnace_bounces; ++k) series += (term *= double(opt.furnace_albedo));
     for (auto &m : models)
-        report.furnace.push_back({m.name, luminance(mean_of(predict(m.model, furnace, fgb, opt))), double(k_pi) * series});
+        report.furnace.push_back({m.name, luminance(mean_color(predict(m.model, furnace, fgb, opt))), double(k_pi) * series});
     return report;
 }
 

@@ -21,7 +21,7 @@ TEST(FieldMetrics, ChromaErrorIgnoresLevelAndSeesColour) {
 TEST(FieldMetrics, FlatOracleAndAScaledCopy) {
     std::vector<Vec3f> ref, twice, flat;
     for (int i = 0; i < 100; ++i) ref.push_back({float(i % 10), float(i % 7) + 1.f, 0.5f * float(i % 3)});
-    const Color3d m = mean_color(reinterpret_cast<const float *>(ref.data()), ref.size());
+    const Color3d m = mean_color(ref);
     for (const Vec3f &r : ref) twice.push_back(r * 2.f), flat.push_back({float(m[0]), float(m[1]), float(m[2])});
     const FieldMetrics t = compare_fields(twice, ref);
     EXPECT_NEAR(t.level_ratio, 2.0, 1e-6);

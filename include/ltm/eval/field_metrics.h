@@ -22,6 +22,7 @@ double luminance(const Color3d &c);
 
 /// Mean colour of n RGB rows (double accumulation).   rows [n, 3] -> Color3d
 Color3d mean_color(const float *rows, size_t n);
+Color3d mean_color(const std::vector<Vec3f> &rows);
 
 /// Centred log channel values: log(c_i) − mean_j log(c_j), the colour with its level removed
 /// (channels floored at 1e-6 · max so a black channel stays finite).
