@@ -14,6 +14,7 @@
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/points/power_balance.h"
 #include "ltm/render/gbuffer.h"
+#include "ltm/render/scene_points.h"
 
 namespace ltm {
 
@@ -102,8 +103,8 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         const PathTracer pt_ref(accel, tracer_config(1)), pt_64(accel, tracer_config(2)), pt_eq(accel, tracer_config(3));
         const auto t_prior = Clock::now();
         const int64_t n_points = models.empty() ? 8192 : models.front().model->cfg.scene_points;
-        const auto prior = power_balance_irradiance(sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed),
-                                                    PathTracerConfig{}.max_depth);
+        const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
+        const auto prior = power_balance_irradiance(sampled.points, PathTracerConfig{}.max_depth, &sampled.emission_scale);
         const double prior_seconds = std::chrono::duration<double>(Clock::now() - t_prior).count();
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));

@@ -7,9 +7,8 @@
 #include "ltm/core/log.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
-#include "ltm/points/surface_sampler.h"
 #include "ltm/render/direct_light.h"
-#include "ltm/render/enclosure.h"
+#include "ltm/render/scene_points.h"
 
 namespace ltm {
 
@@ -38,16 +37,13 @@ std::vector<std::string> scene_range_warnings(const Scene &scene) {
     return w;
 }
 
-PointSet sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed) {
-    SampleFilter filter;
-    if (exclude_enclosed) filter = enclosed_filter(accel);
-    return to_scene_points(sample_surface(accel.scene(), n_points, seed, SampleStream::scene_points, filter));
-}
-
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed) {
     EncodedScene enc;
     auto t = Clock::now();
-    const auto points = point_tensor(sample_scene_points(accel, model->cfg.scene_points, seed, exclude_enclosed));
+    const ScenePoints sampled = sample_scene_points(accel, model->cfg.scene_points, seed, exclude_enclosed);
+    const auto points = point_tensor(sampled.points);
+    const Vec3f s = sampled.emission_scale;
+    const auto emission_scale = torch::tensor({s.x, s.y, s.z});
     enc.n_scene_points = points.size(0);
     enc.sample_seconds = seconds_since(t);
     t = Clock::now();
@@ -57,7 +53,7 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
     {
         torch::NoGradGuard no_grad;
         model->eval();
-        enc.latents = model->encode(points, g);
+        enc.latents = model->encode(points, g, emission_scale);
     }
     enc.encode_seconds = seconds_since(t);
     const SceneNormalization &n = enc.latents.norm;

@@ -29,7 +29,8 @@ torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces) {
     return sum;
 }
 
-SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics) {
+SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics,
+                                       const torch::Tensor &emission_scale) {
     TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
     if (!torch::isfinite(sp).all().item<bool>()) LTM_THROW("scene points contain NaN or Inf");
     if (!(sp.slice(1, 9, 12) >= 0).all().item<bool>()) LTM_THROW("scene point emission must be >= 0");
@@ -50,8 +51,17 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     n.emission = torch::ones({3}, opts);
     n.output = torch::ones({3}, opts);
     if (physics.emission_scale) {
-        // S_c = π · mean_j e_jc: the scene points are area-uniform, so this is Φ_c / A.
-        n.emission = k_pi * sp.slice(1, 9, 12).mean(0);
+        // S_c = Φ_c / A: exact from the meshes when given, else π · mean_j e_jc (the scene points
+        // are area-uniform, so this estimates Φ_c / A, with the noise of the few emitter points).
+        if (emission_scale.defined()) {
+            TORCH_CHECK(emission_scale.dim() == 1 && emission_scale.size(0) == 3, "emission scale must be [3], got ",
+                        emission_scale.sizes());
+            if (!(torch::isfinite(emission_scale).all().item<bool>() && (emission_scale >= 0).all().item<bool>()))
+                LTM_THROW("emission scale must be finite and >= 0");
+            n.emission = emission_scale.to(opts);
+        } else {
+            n.emission = k_pi * sp.slice(1, 9, 12).mean(0);
+        }
         // No emission among the scene points: S = 0, so E⁺ = 0 (no light, no indirect light).
         n.output = n.emission;
         if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(sp.slice(1, 6, 9).mean(0), physics.prior_bounces);
@@ -90,9 +100,10 @@ SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) co
     return g;
 }
 
-SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry) {
+SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
+                                  const torch::Tensor &emission_scale) {
     SceneLatents out;
-    out.norm = scene_normalization(scene_points, geometry, cfg.physics);
+    out.norm = scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
     const auto x = normalize_scene_points(scene_points, out.norm);
     const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]

@@ -76,12 +76,15 @@ std::vector<SurfaceSample> draw(const Scene &scene, const AreaDistribution &dist
 }  // namespace
 
 std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, uint64_t seed,
-                                          SampleStream stream, const SampleFilter &filter) {
+                                          SampleStream stream, const SampleFilter &filter, SampleStats *stats) {
     if (n_points <= 0) LTM_THROW("sample_surface(): point count must be > 0, got ", n_points);
     if (n_points > k_max_sample_count)
         LTM_THROW("sample_surface(): point count ", n_points, " exceeds the limit of ", k_max_sample_count);
     const AreaDistribution dist(scene);
-    if (!filter) return draw(scene, dist, n_points, seed, stream);
+    if (!filter) {
+        if (stats) *stats = {n_points, n_points};
+        return draw(scene, dist, n_points, seed, stream);
+    }
 
     // Rejection: draw a stratified candidate set large enough that >= n_points survive, then
     // keep a seeded uniform subset of the survivors (in candidate order, so strata stay spread).
@@ -96,6 +99,7 @@ std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, 
         for (size_t i = 0; i < cand.size(); ++i)
             if (keep[i]) kept.push_back(int64_t(i));
         if (int64_t(kept.size()) >= n_points) {
+            if (stats) *stats = {int64_t(cand.size()), int64_t(kept.size())};
             const uint64_t key = hash_keys({seed, uint64_t(stream), 0x5e1ec7ull});
             std::vector<std::pair<uint64_t, int64_t>> prio;
             for (int64_t i : kept) prio.push_back({hash_keys({key, uint64_t(i)}), i});
@@ -110,7 +114,11 @@ std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, 
         if (kept.empty() && attempt > 0)
             LTM_THROW("sample_surface(): every candidate point was rejected (all surfaces enclosed?)");
         const double frac = std::max(double(kept.size()) / double(cand.size()), 0.01);
-        const int64_t next = int64_t(double(n_points) / frac * 1.1) + 64;
+        // Rounded up to a multiple of n_points/64: the candidate count (and with it every candidate,
+        // sample i depends on n) must not move when one borderline point flips between two runs,
+        // e.g. the same scene in another unit (float rounding) — else the whole point set changes.
+        const int64_t step = std::max<int64_t>(64, n_points / 64);
+        const int64_t next = (int64_t(double(n_points) / frac * 1.1) / step + 1) * step;
         if (next > k_max_sample_count)
             LTM_THROW("sample_surface(): only ", 100 * frac, "% of the surface passes the filter; ",
                       n_points, " points would need more than ", k_max_sample_count, " candidates");

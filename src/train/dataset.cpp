@@ -16,6 +16,7 @@
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/render/bake.h"
 #include "ltm/render/enclosure.h"
+#include "ltm/render/scene_points.h"
 
 namespace fs = std::filesystem;
 
@@ -65,6 +66,10 @@ void write_record(const std::string &path, const SceneRecord &r) {
     f.tensors["query_points"] = make_f32_tensor({n, 9}, r.query_points.values.data());
     f.tensors["E_direct"] = make_f32_tensor({n, 3}, r.e_direct.data());
     f.tensors["E_indirect"] = make_f32_tensor({n, 3}, r.e_indirect.data());
+    if (r.emission_scale) {
+        const float s[3] = {r.emission_scale->x, r.emission_scale->y, r.emission_scale->z};
+        f.tensors["emission_scale"] = make_f32_tensor({3}, s);
+    }
     f.metadata["ltm"] = r.metadata.dump();
     write_safetensors(path, f);
 }
@@ -92,6 +97,12 @@ SceneRecord read_record(const std::string &path) {
     for (const auto *v : {&r.scene_points.values, &r.query_points.values, &r.e_direct, &r.e_indirect})
         for (float x : *v)
             if (!std::isfinite(x)) LTM_THROW(path, ": record contains NaN or Inf");
+    if (f.tensors.count("emission_scale")) {
+        const auto s = f.require("emission_scale", "F32", {3}, path).as_f32(path);
+        for (float x : s)
+            if (!(std::isfinite(x) && x >= 0.f)) LTM_THROW(path, ": emission_scale must be finite and >= 0");
+        r.emission_scale = Vec3f(s[0], s[1], s[2]);
+    }
     return r;
 }
 
@@ -132,7 +143,9 @@ SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed
     if (p.exclude_enclosed) filter = enclosed_filter(accel);
     SceneRecord r;
     r.seed = seed;
-    r.scene_points = to_scene_points(sample_surface(g.scene, p.scene_points, seed, SampleStream::scene_points, filter));
+    ScenePoints sampled = sample_scene_points(accel, p.scene_points, seed, p.exclude_enclosed);
+    r.scene_points = std::move(sampled.points);
+    r.emission_scale = sampled.emission_scale;
     r.query_points = to_query_points(sample_surface(g.scene, p.query_points, seed, SampleStream::query_points, filter));
     const auto t2 = clock::now();
     BakeSettings bs;
@@ -201,6 +214,32 @@ void build_dataset(const BuildOptions &opt) {
     manifest["records"] = OrderedJson::array();
     for (const auto &path : list_records(opt.out_dir)) manifest["records"].push_back(fs::path(path).filename().string());
     write_file_atomic(opt.out_dir + "/manifest.json", dump_json_compact(manifest));
+}
+
+int64_t upgrade_dataset(const std::string &dir) {
+    std::vector<std::string> todo;
+    for (const auto &path : list_records(dir))
+        if (!read_record(path).emission_scale) todo.push_back(path);
+    log_info("dataset upgrade: ", todo.size(), " records without emission_scale in ", dir);
+    if (todo.empty()) return 0;
+    Progress progress("upgrade", todo.size(), "records");
+    for (const auto &path : todo) {
+        SceneRecord r = read_record(path);
+        const DataPreset p = DataPreset::from_json(r.metadata.at("preset"), path + " (preset)");
+        if (r.metadata.value("generator_version", -1) != k_indoor_generator_version)
+            LTM_THROW(path, ": generator version ", r.metadata.value("generator_version", -1), ", this build generates ",
+                      k_indoor_generator_version, ": the scene cannot be regenerated");
+        const GenConfig gen = p.generator.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(p.generator), p.generator);
+        const GeneratedScene g = generate_indoor(gen, r.seed);
+        if (g.scene.name != r.metadata.value("scene", std::string()))
+            LTM_THROW(path, ": regenerated scene '", g.scene.name, "' is not the record's '", r.metadata.value("scene", std::string()), "'");
+        const EmbreeAccel accel(g.scene);
+        r.emission_scale = sample_scene_points(accel, p.scene_points, r.seed, p.exclude_enclosed).emission_scale;
+        write_record(path, r);
+        progress.add(1);
+    }
+    progress.finish();
+    return int64_t(todo.size());
 }
 
 }  // namespace ltm

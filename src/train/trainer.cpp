@@ -128,6 +128,10 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
         c->scene_points = sp.to(m_device);
         c->query_points = point_tensor(r.query_points).to(m_device);
         c->target = rows_tensor(r.e_indirect, 3).to(m_device);
+        if (r.emission_scale) {
+            const Vec3f s = *r.emission_scale;
+            c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
+        }
         slot = std::move(c);
     }
     return *slot;
@@ -158,7 +162,7 @@ TrainStepLog Trainer::train_step() {
     for (auto &group : m_opt->param_groups()) static_cast<torch::optim::AdamWOptions &>(group.options()).lr(lr);
     m_model->train();
     m_opt->zero_grad();
-    const SceneLatents lat = m_model->encode(scene_points, sc.geometry);
+    const SceneLatents lat = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
     const auto z = m_model->decode(queries, lat);
     const auto l = loss(z, sc.target.index_select(0, idx), lat);
     TrainStepLog log{t, l.item<double>(), lr, 0.0, false};
@@ -193,19 +197,20 @@ std::vector<float> cpu_floats(const torch::Tensor &t) {
 
 OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
     const auto qp = sc.query_points.slice(0, 0, nq);
-    const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry));
+    const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale));
     const double mean = base.abs().mean().item<double>() + 1e-30;
     // Emission ×4: E⁺ ×4 (bit-exact for a power of two when emission_scale is on).
     auto sp4 = sc.scene_points.clone();
     sp4.slice(1, 9, 12).mul_(4.0);
-    const auto e4 = m_model->predict_irradiance(qp, m_model->encode(sp4, sc.geometry));
+    const auto s4 = sc.emission_scale.defined() ? sc.emission_scale * 4.0 : torch::Tensor();
+    const auto e4 = m_model->predict_irradiance(qp, m_model->encode(sp4, sc.geometry, s4));
     // Lengths ×10 (positions of scene and query points): E⁺ unchanged. FPS/kNN are recomputed.
     auto sp10 = sc.scene_points.clone(), qp10 = qp.clone();
     sp10.slice(1, 0, 3).mul_(10.0);
     qp10.slice(1, 0, 3).mul_(10.0);
     SceneGeometry g10 = m_model->scene_geometry(sp10.cpu());
     g10.centers = g10.centers.to(m_device), g10.groups = g10.groups.to(m_device);
-    const auto e10 = m_model->predict_irradiance(qp10, m_model->encode(sp10, g10));
+    const auto e10 = m_model->predict_irradiance(qp10, m_model->encode(sp10, g10, sc.emission_scale));
     return {{"val_emission_x4_error", (e4 - 4.0 * base).abs().mean().item<double>() / (4.0 * mean)},
             {"val_unit_x10_error", (e10 - base).abs().mean().item<double>() / mean}};
 }
@@ -219,7 +224,7 @@ double Trainer::validate() {
     for (size_t i = 0; i < m_val_paths.size(); ++i) {
         CachedScene &sc = scene(m_train_paths.size() + i);
         const int64_t nq = std::min<int64_t>(m_cfg.val_queries, sc.query_points.size(0));
-        const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry);
+        const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale);
         const auto z = m_model->decode(sc.query_points.slice(0, 0, nq), lat);
         const auto target = sc.target.slice(0, 0, nq);
         const auto pred = irradiance_from_z(z, lat);

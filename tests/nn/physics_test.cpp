@@ -146,6 +146,21 @@ TEST(Physics, NormalisationMatchesItsDefinition) {
     // ℓ tracks the point spacing √(A/M): a scene with points ×3 apart has ℓ ×3.
     const SceneNormalization n3 = scene_normalization(scaled(f.sp, 0, 3, 3.0), g, f.cfg.physics);
     EXPECT_NEAR(n3.length.item<double>(), 3.0 * n.length.item<double>(), 1e-5 * n3.length.item<double>());
+    // An exact S given by the caller (render/scene_points.h) replaces the point mean; emission
+    // ×2.5 with the given S ×2.5 leaves the network's input e/S unchanged and scales E⁺ by 2.5.
+    const auto given = torch::tensor({2.0f, 1.0f, 0.5f});
+    const SceneNormalization ng = scene_normalization(f.sp, g, f.cfg.physics, given);
+    EXPECT_TRUE(torch::equal(ng.emission, given));
+    EXPECT_TRUE(torch::allclose(ng.output, given * (rho + rho.pow(2) + rho.pow(3) + rho.pow(4) + rho.pow(5)), 1e-5, 0));
+    EXPECT_THROW(scene_normalization(f.sp, g, f.cfg.physics, torch::tensor({1.0f, NAN, 1.0f})), Error);
+    EXPECT_THROW(scene_normalization(f.sp, g, f.cfg.physics, torch::tensor({1.0f, -1.0f, 1.0f})), Error);
+    {
+        LtmModel m = make_model(f.cfg, 5);
+        torch::NoGradGuard ng2;
+        const auto e1 = m->predict_irradiance(f.qp, m->encode(scaled(f.sp, 9, 12, 2.5), g, given * 2.5));
+        const auto e0 = m->predict_irradiance(f.qp, m->encode(f.sp, g, given));
+        EXPECT_LT(relative_error(e1, 2.5 * e0), 1e-5);
+    }
     // Zero extent (every point in one place) is an error naming the problem, not a NaN.
     auto flat = f.sp.clone();
     flat.slice(1, 0, 3).zero_();

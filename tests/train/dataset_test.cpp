@@ -5,6 +5,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
+#include "ltm/core/math.h"
 #include "ltm/points/safetensors.h"
 #include "ltm/train/dataset.h"
 #include "test_util.h"
@@ -41,6 +42,26 @@ TEST(Dataset, BuildWritesRecordsAndSkipsExistingOnes) {
         sum += e;
     }
     EXPECT_GT(sum, 0.0) << "indirect light must reach some points";
+    // The exact emission scale S = Φ/A travels with the record and agrees with the points' own
+    // estimate π·mean(Le) within the noise of the few emitter points.
+    ASSERT_TRUE(r.emission_scale.has_value());
+    double point_mean = 0;
+    for (size_t i = 0; i < r.scene_points.size(); ++i) point_mean += r.scene_points.at(i, 9);
+    point_mean *= k_pi / double(r.scene_points.size());
+    EXPECT_GT(r.emission_scale->x, 0.f);
+    EXPECT_NEAR(r.emission_scale->x, point_mean, 0.5 * point_mean);
+    // A record from before emission_scale existed is upgraded in place to the value a build computes.
+    SceneRecord old = r;
+    old.emission_scale.reset();
+    write_record(records[0], old);
+    EXPECT_FALSE(read_record(records[0]).emission_scale.has_value());
+    EXPECT_EQ(upgrade_dataset(opt.out_dir), 1);
+    const SceneRecord up = read_record(records[0]);
+    ASSERT_TRUE(up.emission_scale.has_value());
+    EXPECT_EQ(up.emission_scale->x, r.emission_scale->x);
+    EXPECT_EQ(up.emission_scale->z, r.emission_scale->z);
+    EXPECT_EQ(up.e_indirect, r.e_indirect);
+    EXPECT_EQ(upgrade_dataset(opt.out_dir), 0);
     const auto before = std::filesystem::last_write_time(records[0]);
     opt.seeds = {3, 4, 5};
     build_dataset(opt);   // builds only seed 5

@@ -32,11 +32,9 @@ struct EncodedScene {
     int64_t n_scene_points = 0;
     double sample_seconds = 0, geometry_seconds = 0, encode_seconds = 0;
 };
-/// M scene points [M, 12] sampled exactly as `ltm dataset build` does (same sampler, stream and
-/// enclosed-surface filter) with `seed`.
-PointSet sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed = true);
-/// Samples the model's M scene points exactly as `ltm dataset build` does (same sampler, stream
-/// and enclosed-surface filter) with `seed`, then FPS/kNN and the encoder. Independent of any camera.
+/// Samples the model's M scene points exactly as `ltm dataset build` does (render/scene_points.h:
+/// same sampler, stream, enclosed-surface filter and exact emission scale) with `seed`, then
+/// FPS/kNN and the encoder. Independent of any camera.
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);
 
 /// Ê⁺ at the G-buffer's hit points (normal on the side facing the eye).  -> one Vec3f per hit.

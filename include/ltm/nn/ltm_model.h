@@ -22,7 +22,8 @@ struct SceneGeometry {
 
 /// A scene's exact normalisations (PhysicsConfig): what the network's inputs are divided by and
 /// what its output is multiplied by. Every field is a pure function of the scene points (and
-/// their FPS/kNN groups), so the encoder and the decoder see the same frame.
+/// their FPS/kNN groups) and, when given, the scene's exact emission scale S = Φ/A
+/// (render/scene_points.h), so the encoder and the decoder see the same frame.
 struct SceneNormalization {
     torch::Tensor center;     ///< [3] bounding-box centre, subtracted from every position
     torch::Tensor length;     ///< [] ℓ: positions are divided by it (1 when length_scale is off)
@@ -38,10 +39,11 @@ struct SceneLatents {
 };
 
 /// The scene's normalisation (ARCHITECTURE.md §6, PhysicsConfig).
-///   scene_points [M, 12] raw, geometry of the same points -> SceneNormalization
+///   scene_points [M, 12] raw, geometry of the same points, emission_scale [3] or undefined -> SceneNormalization
+/// S = emission_scale when defined (exact Φ/A of the meshes), else π · mean emission of the points.
 /// Throws ltm::Error on non-finite points, negative emission or a scene of zero extent.
 SceneNormalization scene_normalization(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                                       const PhysicsConfig &physics);
+                                       const PhysicsConfig &physics, const torch::Tensor &emission_scale = {});
 /// Model inputs in the normalised frame: (p − centre)/ℓ, n, albedo, log1p(e / S).
 ///   scene_points [M, 12] -> [M, 12]
 torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const SceneNormalization &norm);
@@ -62,8 +64,9 @@ struct LtmModelImpl : torch::nn::Module {
 
     //   scene_points [M, 12] (raw: metres, emission radiance) -> FPS/kNN indices
     SceneGeometry scene_geometry(const torch::Tensor &scene_points) const;
-    //   scene_points [M, 12] raw -> latents at m anchors
-    SceneLatents encode(const torch::Tensor &scene_points, const SceneGeometry &geometry);
+    //   scene_points [M, 12] raw, emission_scale [3] (S = Φ/A, optional) -> latents at m anchors
+    SceneLatents encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
+                        const torch::Tensor &emission_scale = {});
     //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺ / latents.norm.output); kNN among anchors computed here
     torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents);
     //   the same with precomputed anchor neighbours idx [N, κ]

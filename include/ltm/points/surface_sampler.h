@@ -26,6 +26,14 @@ inline constexpr int64_t k_max_sample_count = 50'000'000;
 /// Returns true for samples to drop (e.g. enclosed surfaces, see render/enclosure.h).
 using SampleFilter = std::function<bool(const SurfaceSample &)>;
 
+/// What a filtered draw saw: the filter's pass fraction over the final stratified candidate set
+/// estimates the share of the surface area that passes (the area the scene points represent).
+struct SampleStats {
+    int64_t candidates = 0;   ///< candidates drawn in the final round
+    int64_t passed = 0;       ///< of those, kept by the filter (== candidates without a filter)
+    double pass_fraction() const { return candidates > 0 ? double(passed) / double(candidates) : 0.0; }
+};
+
 /// n_points samples, area-weighted over all triangles. Triangle choice is stratified in one
 /// dimension ((i + ξ_i)/n through the area CDF), the in-triangle position follows Roberts' R2
 /// sequence with a seeded shift, so every triangle's samples are well spread. Sample i is a pure
@@ -33,7 +41,8 @@ using SampleFilter = std::function<bool(const SurfaceSample &)>;
 /// With a filter, rejected samples are replaced by drawing more candidates; the kept ones are a
 /// seeded uniform subset, still area-weighted over the surfaces that pass the filter.
 std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, uint64_t seed,
-                                          SampleStream stream, const SampleFilter &filter = {});
+                                          SampleStream stream, const SampleFilter &filter = {},
+                                          SampleStats *stats = nullptr);
 
 /// [M, 12] scene points (scene_point_columns()).
 PointSet to_scene_points(const std::vector<SurfaceSample> &samples);

@@ -11,6 +11,9 @@ namespace ltm {
 struct EnclosureTest {
     int n_rays = 32;                  ///< stratified cosine-weighted directions (4 × 8 strata)
     float back_face_fraction = 0.9f;  ///< enclosed if at least this fraction of rays hit a back face
+    /// Floor of the rays' self-intersection offset (offset_ray_origin), in scene units;
+    /// enclosed_filter() sets it to the scene's extent, so the test does not depend on the unit.
+    float offset_length = 1.f;
 };
 
 /// True if at least `back_face_fraction` of the rays leaving (p, n) first hit the back side of a
@@ -19,7 +22,8 @@ struct EnclosureTest {
 /// looks into the space behind the floor, which has no surfaces, so it is not detected.
 bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest &cfg = {});
 
-/// A SampleFilter for sample_surface() that rejects enclosed samples.
+/// A SampleFilter for sample_surface() that rejects enclosed samples (cfg.offset_length is replaced
+/// by the largest extent of the scene's bounding box).
 SampleFilter enclosed_filter(const EmbreeAccel &accel, const EnclosureTest &cfg = {});
 
 }  // namespace ltm

@@ -23,9 +23,11 @@ struct Hit {
 
 /// Origin for a ray leaving surface point p (normal n) along direction d: pushed off the surface
 /// on d's side by an offset that grows with |p| (float spacing), so the ray cannot re-hit the
-/// surface it starts on.
-inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, Vec3f d) {
-    const float scale = 1e-4f * (1.f + max_component(Vec3f(std::abs(p.x), std::abs(p.y), std::abs(p.z))));
+/// surface it starts on. `length` is the offset's floor near the origin, in scene units: 1 (a
+/// metre) for rendering; a scene's extent where a decision must not depend on the unit of length
+/// (render/enclosure.h: the same scene in centimetres must drop the same points).
+inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, Vec3f d, float length = 1.f) {
+    const float scale = 1e-4f * (length + max_component(Vec3f(std::abs(p.x), std::abs(p.y), std::abs(p.z))));
     return p + n * (dot(n, d) >= 0.f ? scale : -scale);
 }
 

@@ -1,13 +1,16 @@
 // dataset.h: one safetensors record per scene (ARCHITECTURE.md §4): scene_points [M, 12],
-// query_points [N, 9], E_direct [N, 3], E_indirect [N, 3] + JSON metadata; presets that say how
+// query_points [N, 9], E_direct [N, 3], E_indirect [N, 3], emission_scale [3] (S = Φ/A of the
+// sampled surface; absent in records built before it existed) + JSON metadata; presets that say how
 // records are made; building them (generate → sample → bake), and reading them back.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ltm/core/json_util.h"
+#include "ltm/core/math.h"
 #include "ltm/points/point_set.h"
 
 namespace ltm {
@@ -38,6 +41,7 @@ struct SceneRecord {
     PointSet query_points;            ///< [N, 9]  query_point_columns()
     std::vector<float> e_direct;      ///< [N * 3]
     std::vector<float> e_indirect;    ///< [N * 3]
+    std::optional<Vec3f> emission_scale;   ///< S = Φ/A (render/scene_points.h); nullopt in older records
     OrderedJson metadata;             ///< format_version, preset, generator, seed, spp, timings, ...
 };
 
@@ -61,5 +65,11 @@ struct BuildOptions {
 /// Builds every missing record (skips existing files), then rewrites out_dir/manifest.json
 /// from the records present. Progress with ETA on stderr.
 void build_dataset(const BuildOptions &opt);
+
+/// Adds `emission_scale` to the records of `dir` built before it existed: regenerates each scene
+/// from its metadata (preset, seed; the generator version must match) and computes S = Φ/A as a
+/// build would. Points and labels are untouched; files are rewritten atomically. Returns the
+/// number of records upgraded.
+int64_t upgrade_dataset(const std::string &dir);
 
 }  // namespace ltm

@@ -87,6 +87,7 @@ private:
         SceneRecord record;
         SceneGeometry geometry;
         torch::Tensor scene_points, query_points, target;   // device tensors
+        torch::Tensor emission_scale;                       // [3] S = Φ/A, undefined for older records
     };
     CachedScene &scene(size_t index);
     TrainStepLog train_step();
