@@ -5,6 +5,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/scene/builtin_scenes.h"
+#include "ltm/scene/pbrt_reader.h"
 #include "ltm/scene/scene_io.h"
 
 namespace fs = std::filesystem;
@@ -322,8 +323,10 @@ Scene load_scene(const std::string &path, const ValidateOptions &opt) {
             s = scene_from_json(parse_json_file(path), path, dir.empty() ? "." : dir);
         } else if (ext == "obj") {
             s = load_obj(path);
+        } else if (ext == "pbrt") {
+            s = load_pbrt(path);
         } else {
-            LTM_THROW(path, ": unknown scene format '.", ext, "' (expected .json, .obj or builtin:<name>)");
+            LTM_THROW(path, ": unknown scene format '.", ext, "' (expected .json, .obj, .pbrt or builtin:<name>)");
         }
     }
     validate_scene(s, path, opt);

@@ -59,6 +59,21 @@ TEST(BadInput, SampleRejectsBadScenesAndCounts) {
     expect_error(dir, n, {"sample", dir.path("ok.json"), "-N", "999999999999", "-o", out}, "sample", "too large");
 }
 
+TEST(BadInput, PbrtErrorsNameFileLineAndColumn) {
+    test::TempDir dir;
+    write_file_atomic(dir.path("bad.pbrt"), "WorldBegin\n  Shape \"sphere\"\n  Frobnicate\n");
+    write_file_atomic(dir.path("unbalanced.pbrt"), "AttributeBegin\nAttributeEnd\nAttributeEnd\n");
+    write_file_atomic(dir.path("ply.pbrt"), "AreaLightSource \"diffuse\" Shape \"plymesh\" \"string filename\" \"nope.ply\"\n");
+    write_file_atomic(dir.path("point.pbrt"), "LightSource \"point\"\nShape \"sphere\"\n");
+    const size_t n = dir.count();
+    const std::string out = dir.path("out.json");
+    expect_error(dir, n, {"convert", dir.path("bad.pbrt"), "-o", out}, "convert", "bad.pbrt:3:3: unknown directive 'Frobnicate'");
+    expect_error(dir, n, {"convert", dir.path("unbalanced.pbrt"), "-o", out}, "convert", "unbalanced.pbrt:3:1: unbalanced AttributeEnd");
+    expect_error(dir, n, {"convert", dir.path("ply.pbrt"), "-o", out}, "convert", "nope.ply' not found");
+    expect_error(dir, n, {"convert", dir.path("point.pbrt"), "-o", out}, "convert", "out of scope");
+    expect_error(dir, n, {"render", dir.path("bad.pbrt"), "-o", dir.path("img")}, "render", "bad.pbrt:3:3");
+}
+
 TEST(BadInput, UnwritableOutputsLeaveNothing) {
     test::TempDir dir;
     const size_t n = dir.count();

@@ -213,3 +213,35 @@ TEST(Cli, NeuralRenderAndEvalSmoke) {
     EXPECT_NE(r.err.find("outside the training range"), std::string::npos) << r.err;
 }
 #endif
+
+// A pbrt-v4 room renders directly and converts to scene JSON that reads back the same.
+TEST(Cli, PbrtSceneRendersAndConverts) {
+    test::TempDir dir;
+    write_file_atomic(dir.path("room.pbrt"), R"(LookAt 0 1 -0.9  0 1 0  0 1 0
+Camera "perspective" "float fov" 60
+Film "rgb" "integer xresolution" 32 "integer yresolution" 32
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [5 5 5]
+  Shape "trianglemesh" "point3 P" [-0.3 1.99 -0.3  0.3 1.99 -0.3  0.3 1.99 0.3  -0.3 1.99 0.3]
+        "integer indices" [0 1 2 0 2 3] "normal N" [0 -1 0 0 -1 0 0 -1 0 0 -1 0]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [0.6 0.5 0.4]
+# a closed box facing inwards: floor, ceiling and walls from one bilinear mesh
+Shape "bilinearmesh" "point3 P" [-1 0 -1  1 0 -1  -1 0 1  1 0 1   -1 2 -1  1 2 -1  -1 2 1  1 2 1]
+      "integer indices" [2 3 0 1  4 5 6 7  0 1 4 5  6 7 2 3  2 0 6 4  1 3 5 7]
+)");
+    auto r = run({"convert", dir.path("room.pbrt"), "-o", dir.path("room.json"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Scene a = load_scene(dir.path("room.pbrt")), b = load_scene(dir.path("room.json"));
+    EXPECT_EQ(a.n_triangles(), b.n_triangles());
+    EXPECT_NEAR(a.total_area(), b.total_area(), 1e-6);
+    ASSERT_EQ(b.cameras.size(), 1u);
+    EXPECT_EQ(b.cameras[0].width, 32);
+    r = run({"render", dir.path("room.pbrt"), "--spp", "4", "-o", dir.path("img"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Image img = read_image(dir.path("img.png"), false);
+    double sum = 0;
+    for (const Vec3f &p : img.pixels) sum += double(p.x + p.y + p.z);
+    EXPECT_GT(sum, 0.0) << "the lit pbrt room renders";
+}
