@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev
   libnanoflann-dev libtinyobjloader-dev nlohmann-json3-dev libcli11-dev
-  libspdlog-dev libfmt-dev libstb-dev libopenexr-dev zlib1g-dev
+  libspdlog-dev libfmt-dev libstb-dev libopenexr-dev zlib1g-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 # libtorch is needed only for the model layers (LTM_WITH_TORCH=ON, the default).

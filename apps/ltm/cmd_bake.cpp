@@ -96,7 +96,7 @@ Command make_bake_command() {
     c.help = "Path-trace ground-truth E_direct and E_indirect at query points (sharded, resumable)";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
         BakeSettings &s = a->settings;
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt or builtin:<name>)")->required();
+        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
         sub.add_option("--points", a->points, "Directory written by `ltm sample` (query_points.ply)")->required();
         sub.add_option("--spp", s.spp, "Stratified samples per point")->capture_default_str();
         sub.add_option("--max-depth", s.max_depth, "Scattering events after the point")->capture_default_str();

@@ -1,5 +1,7 @@
-// cmd_convert.cpp: `ltm convert IN -o OUT.scene.json`: any scene ltm reads (pbrt-v4, OBJ, JSON,
-// builtin) → ltm scene JSON (meshes inline; image textures referenced relative to the output).
+// cmd_convert.cpp: `ltm convert IN -o OUT.scene.json`: any scene ltm reads (pbrt-v4, glTF, OBJ,
+// JSON, builtin) → ltm scene JSON (meshes inline; image textures referenced relative to the
+// output; embedded images written beside it as PNG).
+#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -7,6 +9,7 @@
 #include "cli.h"
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
+#include "ltm/core/image.h"
 #include "ltm/core/log.h"
 #include "ltm/scene/scene_io.h"
 
@@ -22,15 +25,28 @@ Command make_convert_command() {
     auto a = std::make_shared<ConvertArgs>();
     Command c;
     c.name = "convert";
-    c.help = "Convert a scene (pbrt-v4, OBJ, JSON, builtin) to ltm scene JSON";
+    c.help = "Convert a scene (pbrt-v4, glTF 2.0, OBJ, JSON, builtin) to ltm scene JSON";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt or builtin:<name>)")->required();
+        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
         sub.add_option("-o,--output", a->output, "Output scene JSON")->required();
     };
     c.run = [a](const CommonOptions &) {
         if (file_extension(a->output) != "json") LTM_THROW(a->output, ": output must be a .json file");
-        const Scene scene = load_scene(a->scene);
+        Scene scene = load_scene(a->scene);
+        // Images that exist only in memory (embedded in a .glb or a data URI) are written as PNG
+        // beside the output, so the JSON can reference them.
+        int written = 0;
+        for (Material &m : scene.materials)
+            for (Texture *t : {&m.albedo, &m.emission})
+                if (t->kind == TextureKind::image && t->image && !std::filesystem::is_regular_file(t->image_path)) {
+                    const std::string png = detail::concat(a->output.substr(0, a->output.size() - 5), "_", m.name,
+                                                           t == &m.albedo ? "_albedo" : "_emission", ".png");
+                    write_png(png, *t->image);
+                    t->image_path = png;
+                    ++written;
+                }
         save_scene_json(scene, a->output);
+        if (written) log_info("wrote ", written, " embedded image(s) as PNG beside ", a->output);
         const Vec3f e = scene.bounds().extent();
         log_info(a->scene, " -> ", a->output, ": ", scene.meshes.size(), " meshes, ", scene.n_triangles(), " triangles, ",
                  scene.materials.size(), " materials, ", scene.cameras.size(), " cameras, extent ", e.x, " x ", e.y, " x ", e.z);

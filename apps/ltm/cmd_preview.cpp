@@ -41,7 +41,7 @@ Command make_preview_command() {
     c.name = "preview";
     c.help = "Render a quick albedo/normal preview of a scene from its camera (PNG)";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt or builtin:<name>)")->required();
+        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
         sub.add_option("-o,--output", a->output, "Output PNG")->required();
         sub.add_option("--camera", a->camera, "Camera name (default: the scene's first, else automatic)");
         sub.add_option("--mode", a->mode, "shaded | albedo | normal")->capture_default_str();

@@ -33,7 +33,7 @@ Command make_render_command() {
     c.name = "render";
     c.help = "Render an image: path-traced reference or the neural model (EXR with AOVs + PNGs)";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt or builtin:<name>)")->required();
+        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
         sub.add_option("--method", a->method, "pathtrace | neural")->capture_default_str()->check(
             CLI::IsMember({"pathtrace", "neural"}));
         sub.add_option("--model", a->model, "Weights for --method neural (models/ltm-cpu.safetensors)");

@@ -36,7 +36,7 @@ Command make_sample_command() {
     c.name = "sample";
     c.help = "Sample scene points and query points on a scene's surfaces (PLY)";
     c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt or builtin:<name>)")->required();
+        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
         sub.add_option("-M,--scene-points", a->scene_points, "Scene points (p, n, albedo, emission)")->capture_default_str();
         sub.add_option("-N,--query-points", a->query_points, "Query points (p, n, albedo)")->capture_default_str();
         sub.add_flag("--exclude-enclosed", a->exclude_enclosed,

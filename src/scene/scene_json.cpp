@@ -5,6 +5,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/scene/builtin_scenes.h"
+#include "ltm/scene/gltf_reader.h"
 #include "ltm/scene/pbrt_reader.h"
 #include "ltm/scene/scene_io.h"
 
@@ -325,8 +326,10 @@ Scene load_scene(const std::string &path, const ValidateOptions &opt) {
             s = load_obj(path);
         } else if (ext == "pbrt") {
             s = load_pbrt(path);
+        } else if (ext == "gltf" || ext == "glb") {
+            s = load_gltf(path);
         } else {
-            LTM_THROW(path, ": unknown scene format '.", ext, "' (expected .json, .obj, .pbrt or builtin:<name>)");
+            LTM_THROW(path, ": unknown scene format '.", ext, "' (expected .json, .obj, .pbrt, .gltf, .glb or builtin:<name>)");
         }
     }
     validate_scene(s, path, opt);
