@@ -8,6 +8,7 @@ packages=(
   libembree-dev libtbb-dev
   libnanoflann-dev libtinyobjloader-dev nlohmann-json3-dev libcli11-dev
   libspdlog-dev libfmt-dev libstb-dev libopenexr-dev zlib1g-dev libtinygltf-dev
+  assimp-utils
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 # libtorch is needed only for the model layers (LTM_WITH_TORCH=ON, the default).

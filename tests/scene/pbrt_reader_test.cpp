@@ -2,6 +2,7 @@
 // scoping, orientation rules, handedness and up axis, materials and area lights, PLY meshes
 // (ASCII, binary LE/BE, gzip), instancing, and one-line located errors for bad input.
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -315,4 +316,31 @@ TEST(PbrtReader, CornellBoxTwinHasTheSameGeometryLightAndCamera) {
     int emitters = 0;
     for (const TriangleMesh &m : s.meshes) emitters += s.materials[size_t(m.material)].is_emissive();
     EXPECT_EQ(emitters, 1);
+}
+
+// An independent writer: assimp (Debian's assimp-utils) exports the example Cornell box OBJ as
+// pbrt-v4 and as glTF 2.0 (.glb); both read back with the OBJ's area, triangles, albedos and light.
+TEST(PbrtReader, AssimpExportsOfTheCornellBoxReadBack) {
+    if (std::system("command -v assimp > /dev/null 2>&1") != 0) GTEST_SKIP() << "assimp (assimp-utils) not installed";
+    test::TempDir dir;
+    const std::string obj = test::source_path("examples/cornell-box/cornell-box.obj");
+    const Scene a = load_scene(obj);
+    for (const std::string out : {"cb.pbrt", "cb.glb"}) {
+        const std::string cmd = "cd '" + dir.path() + "' && assimp export '" + obj + "' " + out + " > assimp.log 2>&1";
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << read_file(dir.path("assimp.log"));
+        const Scene b = load_scene(dir.path(out));
+        EXPECT_EQ(a.n_triangles(), b.n_triangles()) << out;
+        EXPECT_NEAR(a.total_area(), b.total_area(), 1e-5 * a.total_area()) << out;
+        double flux_a = 0, flux_b = 0, albedo_a = 0, albedo_b = 0;
+        for (const Scene *s : {&a, &b})
+            for (const TriangleMesh &m : s->meshes)
+                for (size_t t = 0; t < m.n_triangles(); ++t) {
+                    const Material &mat = s->materials[size_t(m.material)];
+                    (s == &a ? flux_a : flux_b) += m.area(t) * luminance(mat.emission.color_a);
+                    (s == &a ? albedo_a : albedo_b) += m.area(t) * luminance(mat.albedo.color_a);
+                }
+        EXPECT_GT(flux_a, 0.0);
+        EXPECT_NEAR(flux_b, flux_a, 1e-4 * flux_a) << out;
+        EXPECT_NEAR(albedo_b, albedo_a, 1e-4 * albedo_a) << out;
+    }
 }
