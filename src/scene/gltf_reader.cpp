@@ -272,6 +272,28 @@ private:
 
 }  // namespace
 
+Scene parse_gltf(const std::string &bytes, const std::string &where, bool binary) {
+    tinygltf::TinyGLTF loader;
+    // No file system: external buffers and images fail to load (an error, never a read).
+    tinygltf::FsCallbacks fs_none;
+    fs_none.FileExists = [](const std::string &, void *) { return false; };
+    fs_none.ExpandFilePath = [](const std::string &p, void *) { return p; };
+    fs_none.ReadWholeFile = [](std::vector<unsigned char> *, std::string *err, const std::string &, void *) {
+        if (err) *err = "file access disabled";
+        return false;
+    };
+    fs_none.WriteWholeFile = [](std::string *, const std::string &, const std::vector<unsigned char> &, void *) { return false; };
+    fs_none.user_data = nullptr;
+    loader.SetFsCallbacks(fs_none);
+    tinygltf::Model model;
+    std::string err, warn;
+    const auto *data = reinterpret_cast<const unsigned char *>(bytes.data());
+    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes.size()), "")
+                           : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), "");
+    if (!ok) LTM_THROW(where, ": ", err.empty() ? "not a valid glTF 2.0 file" : one_line(err));
+    return GltfReader(model, where).read();
+}
+
 Scene load_gltf(const std::string &path) {
     if (!fs::is_regular_file(path)) LTM_THROW(path, ": file not found");
     tinygltf::TinyGLTF loader;

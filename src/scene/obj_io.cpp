@@ -28,6 +28,10 @@ Texture obj_texture(const float value[3], const std::string &map, const std::str
 }
 }  // namespace
 
+namespace {
+Scene obj_to_scene(const tinyobj::ObjReader &reader, const std::string &path, bool allow_files);
+}  // namespace
+
 Scene load_obj(const std::string &path) {
     if (!fs::is_regular_file(path)) LTM_THROW(path, ": file not found");
     tinyobj::ObjReaderConfig cfg;
@@ -44,7 +48,25 @@ Scene load_obj(const std::string &path) {
     const std::string warn = reader.Warning();
     if (warn.find("Material file") != std::string::npos || warn.find("not found") != std::string::npos)
         LTM_THROW(path, ": ", warn.substr(0, warn.find('\n')));
+    return obj_to_scene(reader, path, true);
+}
 
+Scene parse_obj(const std::string &obj_text, const std::string &mtl_text, const std::string &where) {
+    tinyobj::ObjReaderConfig cfg;
+    cfg.triangulate = true;
+    cfg.vertex_color = false;
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromString(obj_text, mtl_text, cfg)) {
+        std::string err = reader.Error();
+        for (char &c : err)
+            if (c == '\n' || c == '\r') c = ' ';
+        LTM_THROW(where, ": cannot parse OBJ: ", err.empty() ? "unknown error" : err);
+    }
+    return obj_to_scene(reader, where, false);
+}
+
+namespace {
+Scene obj_to_scene(const tinyobj::ObjReader &reader, const std::string &path, bool allow_files) {
     const auto &attrib = reader.GetAttrib();
     const auto &shapes = reader.GetShapes();
     const auto &materials = reader.GetMaterials();
@@ -57,6 +79,8 @@ Scene load_obj(const std::string &path) {
         Material m;
         m.name = mt.name.empty() ? "material" + std::to_string(i) : mt.name;
         const std::string where = path + ": material '" + m.name + "'";
+        if (!allow_files && (!mt.diffuse_texname.empty() || !mt.emissive_texname.empty()))
+            LTM_THROW(where, ": texture maps need a file-based OBJ (load_obj)");
         m.albedo = obj_texture(mt.diffuse, mt.diffuse_texname, dir, where);
         m.emission = obj_texture(mt.emission, mt.emissive_texname, dir, where);
         const Vec3f amax = m.albedo.max_value();
@@ -109,5 +133,6 @@ Scene load_obj(const std::string &path) {
     }
     return s;
 }
+}  // namespace
 
 }  // namespace ltm

@@ -123,7 +123,7 @@ struct State {
 
 class Reader {
 public:
-    Reader(std::string base_dir) : m_base(std::move(base_dir)) {
+    Reader(std::string base_dir, bool allow_files) : m_base(std::move(base_dir)), m_allow_files(allow_files) {
         PbrtMaterial def;
         def.name = "pbrt_default";
         def.mat.name = def.name;
@@ -200,7 +200,7 @@ public:
 
 private:
     // ---- tokens and parameters ----
-    PbrtTokenizer &tok() { return *m_files.back(); }
+    PbrtTokenizer &tok() const { return *m_files.back(); }
 
     PbrtToken expect(Kind k, const char *what) {
         PbrtToken t = tok().next();
@@ -328,6 +328,7 @@ private:
     void warn(const std::string &msg) { ++m_warnings[msg]; }
 
     std::string resolve(const std::string &file) const {
+        if (!m_allow_files) LTM_THROW(tok().peek().where(), ": file '", file, "' not read (file access disabled)");
         return fs::path(file).is_absolute() ? file : (fs::path(m_base) / file).string();
     }
 
@@ -750,6 +751,7 @@ private:
     }
 
     std::string m_base;
+    bool m_allow_files = true;
     std::vector<std::unique_ptr<PbrtTokenizer>> m_files;
     State m_state;
     std::vector<State> m_stack;
@@ -771,8 +773,8 @@ private:
 
 }  // namespace
 
-Scene parse_pbrt(const std::string &text, const std::string &file, const std::string &base_dir) {
-    Reader r(base_dir);
+Scene parse_pbrt(const std::string &text, const std::string &file, const std::string &base_dir, bool allow_files) {
+    Reader r(base_dir, allow_files);
     r.parse(text, file);
     Scene s = r.finish(file);
     s.name = fs::path(file).stem().string();

@@ -9,6 +9,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/scene/gltf_reader.h"
+#include "ltm/scene/pbrt_reader.h"
 #include "ltm/scene/scene_io.h"
 #include "test_util.h"
 
@@ -117,4 +118,33 @@ TEST(GltfReader, BadFilesAreOneLineErrorsNamingTheFile) {
             }
         }
     }
+}
+
+// The in-memory readers the fuzzers use never touch files: an external URI (glTF), an Include or
+// PLY (pbrt) or a texture map (OBJ) is an error; the same content inline reads as from a file.
+TEST(InMemoryReaders, NoFileAccessAndSameResult) {
+    test::TempDir dir;
+    write_file_atomic(dir.path("room.bin"), quad_buffer());
+    EXPECT_THROW(parse_gltf(room_json(R"("uri": "room.bin", )"), "mem.gltf", false), Error);
+    const std::string b64 = "data:application/octet-stream;base64,";
+    const std::string raw = quad_buffer();
+    static const char *k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string enc;
+    for (size_t i = 0; i < raw.size(); i += 3) {
+        const uint32_t n = (uint32_t(uint8_t(raw[i])) << 16) | (i + 1 < raw.size() ? uint32_t(uint8_t(raw[i + 1])) << 8 : 0) |
+                           (i + 2 < raw.size() ? uint32_t(uint8_t(raw[i + 2])) : 0);
+        enc += k[(n >> 18) & 63];
+        enc += k[(n >> 12) & 63];
+        enc += i + 1 < raw.size() ? k[(n >> 6) & 63] : '=';
+        enc += i + 2 < raw.size() ? k[n & 63] : '=';
+    }
+    check_room(parse_gltf(room_json("\"uri\": \"" + b64 + enc + "\", "), "mem.gltf", false));
+    EXPECT_THROW(parse_pbrt("Include \"x.pbrt\"", "mem.pbrt", dir.path(), false), Error);
+    EXPECT_THROW(parse_pbrt("Shape \"plymesh\" \"string filename\" \"x.ply\"", "mem.pbrt", dir.path(), false), Error);
+    const std::string obj = read_file(test::source_path("examples/cornell-box/cornell-box.obj"));
+    const std::string mtl = read_file(test::source_path("examples/cornell-box/cornell-box.mtl"));
+    const Scene a = parse_obj(obj, mtl, "mem.obj"), b = load_scene(test::source_path("examples/cornell-box/cornell-box.obj"));
+    EXPECT_EQ(a.n_triangles(), b.n_triangles());
+    EXPECT_EQ(a.materials.size(), b.materials.size());
+    EXPECT_THROW(parse_obj(obj, "newmtl m\nKd 0.5 0.5 0.5\nmap_Kd /etc/passwd\n", "mem.obj"), Error);
 }

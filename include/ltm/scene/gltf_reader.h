@@ -17,5 +17,8 @@ namespace ltm {
 /// Reads .gltf or .glb (by extension). Errors name the file ("file: problem"); embedded images
 /// become in-memory textures named "<file>#image<i>" (ltm convert writes them out as PNG).
 Scene load_gltf(const std::string &path);
+/// The same from bytes in memory (binary: a .glb container, else glTF JSON); external URIs are an
+/// error (only data URIs and the GLB buffer are read). `where` names the source. Used by the fuzzer.
+Scene parse_gltf(const std::string &bytes, const std::string &where, bool binary);
 
 }  // namespace ltm

@@ -31,7 +31,9 @@ namespace ltm {
 /// Warnings (ignored or approximated features) go to the log, one line each with a count.
 Scene load_pbrt(const std::string &path);
 
-/// The same from text in memory; relative file names resolve against `base_dir`.
-Scene parse_pbrt(const std::string &text, const std::string &file, const std::string &base_dir);
+/// The same from text in memory; relative file names resolve against `base_dir`. With
+/// allow_files false, any directive that names a file (Include, plymesh, imagemap) is an error
+/// (the fuzzer's mode: no input may make the reader open arbitrary paths).
+Scene parse_pbrt(const std::string &text, const std::string &file, const std::string &base_dir, bool allow_files = true);
 
 }  // namespace ltm

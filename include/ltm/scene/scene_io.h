@@ -28,5 +28,8 @@ void save_scene_json(const Scene &scene, const std::string &path);
 /// OBJ + MTL via tinyobjloader: Kd / map_Kd → albedo, Ke / map_Ke → emission. Polygons are
 /// triangulated; normals in the file are ignored (geometric normals follow the winding).
 Scene load_obj(const std::string &path);
+/// The same from text in memory (the MTL given as text; texture maps are an error here, since
+/// they name files). `where` names the source in errors. Used by the fuzzer.
+Scene parse_obj(const std::string &obj_text, const std::string &mtl_text, const std::string &where);
 
 }  // namespace ltm
