@@ -132,7 +132,9 @@ private:
         cam.up = normalize(xf.apply_vector({0, 1, 0}));
         if (!(c.perspective.yfov > 0 && c.perspective.yfov < M_PI)) LTM_THROW(m_where, ": camera ", index, " has yfov out of (0, π)");
         cam.fov_y_deg = float(c.perspective.yfov * 180.0 / M_PI);
-        if (c.perspective.aspectRatio > 0) cam.height = std::max(1, int(std::lround(double(cam.width) / c.perspective.aspectRatio)));
+        const double aspect = c.perspective.aspectRatio;
+        if (aspect != 0.0 && !(aspect >= 1.0 / 64 && aspect <= 64)) LTM_THROW(m_where, ": camera ", index, " aspect ratio ", aspect, " out of [1/64, 64]");
+        if (aspect > 0) cam.height = std::max(1, int(std::lround(double(cam.width) / aspect)));
         m_scene.cameras.push_back(cam);
     }
 

@@ -299,7 +299,7 @@ private:
         if (!p) return std::nullopt;
         if (p->type == "rgb") {
             if (p->nums.size() != 3) LTM_THROW(p->where, ": rgb parameter '", name, "' needs 3 values");
-            const Vec3f c(float(p->nums[0]), float(p->nums[1]), float(p->nums[2]));
+            const Vec3f c{float(p->nums[0]), float(p->nums[1]), float(p->nums[2])};
             if (c.x < 0 || c.y < 0 || c.z < 0) LTM_THROW(p->where, ": rgb parameter '", name, "' is negative");
             return c;
         }
@@ -413,10 +413,10 @@ private:
         } else if (n == "Film") {
             string();
             auto ps = params();
-            m_film_w = int(get_float(ps, "xresolution", 1280));
-            m_film_h = int(get_float(ps, "yresolution", 720));
-            if (m_film_w < 1 || m_film_h < 1 || m_film_w > 16384 || m_film_h > 16384)
-                LTM_THROW(d.where(), ": Film resolution ", m_film_w, "x", m_film_h, " out of range (1–16384)");
+            const double w = get_float(ps, "xresolution", 1280), h = get_float(ps, "yresolution", 720);
+            if (!(w >= 1 && h >= 1 && w <= 16384 && h <= 16384))   // checked before the cast (found by the fuzzer)
+                LTM_THROW(d.where(), ": Film resolution ", w, "x", h, " out of range (1–16384)");
+            m_film_w = int(w), m_film_h = int(h);
         } else if (n == "Sampler" || n == "Integrator" || n == "PixelFilter" || n == "Accelerator" || n == "Option" ||
                    n == "ColorSpace" || n == "MakeNamedMedium" || n == "Attribute") {
             // Renderer settings: ltm's own renderers decide these.

@@ -219,7 +219,7 @@ PlyMesh parse_ply_mesh(const std::string &bytes, const std::string &where) {
                 }
             }
             if (is_vertex) {
-                const Vec3f p(float(vals[size_t(ix)]), float(vals[size_t(iy)]), float(vals[size_t(iz)]));
+                const Vec3f p{float(vals[size_t(ix)]), float(vals[size_t(iy)]), float(vals[size_t(iz)])};
                 if (!is_finite(p)) LTM_THROW(where, ": vertex ", i, " has a non-finite position");
                 m.positions.push_back(p);
                 if (normals) m.normals.push_back(Vec3f(float(vals[size_t(inx)]), float(vals[size_t(iny)]), float(vals[size_t(inz)])));
