@@ -85,7 +85,8 @@ Command make_eval_command() {
                     scenes.push_back({"seed-" + std::to_string(seed), generate_indoor(gen, seed).scene});
             } else {
                 Scene sc = load_scene(s);
-                for (const auto &w : scene_range_warnings(sc)) log_warn(s, ": ", w);
+                for (const auto &w : scene_range_warnings(sc, models.empty() || models.front().model->cfg.physics.length_scale))
+                    log_warn(s, ": ", w);
                 scenes.push_back({std::filesystem::path(s).stem().string(), std::move(sc)});
             }
         }

@@ -12,7 +12,7 @@ namespace ltm::cli {
 void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     LoadedModel m = load_model(a.model);
     const Scene scene = load_scene(a.scene);
-    for (const auto &w : scene_range_warnings(scene)) log_warn(a.scene, ": ", w);
+    for (const auto &w : scene_range_warnings(scene, m.model->cfg.physics.length_scale)) log_warn(a.scene, ": ", w);
     const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);
     const EmbreeAccel accel(scene);
     check_camera(accel, cam, a.scene);

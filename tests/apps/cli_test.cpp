@@ -8,6 +8,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/image.h"
 #include "ltm/points/ply_io.h"
+#include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/scene_io.h"
 #include "test_util.h"
 #ifdef LTM_WITH_TORCH
@@ -206,11 +207,22 @@ TEST(Cli, NeuralRenderAndEvalSmoke) {
     EXPECT_FALSE(std::filesystem::exists(dir.path("b.png")));
     r = run({"render", scene, "--method", "neural", "-o", dir.path("b")});
     EXPECT_EQ(r.code, 1);
-    // A scene unlike the training distribution renders, with a warning that names the range.
-    r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", weights, "--width", "16", "--height",
+    // A scene unlike the training distribution renders, with a warning that names the range: the
+    // unit-free model judges proportions (a Cornell box flattened to 1/10 of its height), not size.
+    Scene flat = cornell_box();
+    for (auto &m : flat.meshes)
+        for (auto &p : m.positions) p.y *= 0.1f;
+    flat.cameras[0].eye.y *= 0.1f, flat.cameras[0].target.y *= 0.1f;
+    save_scene_json(flat, dir.path("flat.json"));
+    r = run({"render", dir.path("flat.json"), "--method", "neural", "--model", weights, "--width", "16", "--height",
              "16", "--direct-spp", "1", "-o", dir.path("cb")});
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("outside the training range"), std::string::npos) << r.err;
+    // The same box in millimetres is no warning for it: its proportions are a room's.
+    r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", weights, "--width", "16", "--height",
+             "16", "--direct-spp", "1", "-o", dir.path("cb2")});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("outside the training range"), std::string::npos) << r.err;
 }
 #endif
 
