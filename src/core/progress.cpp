@@ -28,10 +28,10 @@ std::string format_duration(double s) {
     return buf;
 }
 
-Progress::Progress(std::string label, uint64_t total, std::string unit)
+Progress::Progress(std::string label, uint64_t total, std::string unit, bool show)
     : m_label(std::move(label)), m_unit(std::move(unit)), m_total(total ? total : 1),
       m_start(std::chrono::steady_clock::now()), m_last_draw(m_start),
-      m_tty(isatty(fileno(stderr))), m_enabled(log_level() >= LogLevel::normal) {}
+      m_tty(isatty(fileno(stderr))), m_enabled(show && log_level() >= LogLevel::normal) {}
 
 Progress::~Progress() { finish(); }
 

@@ -49,7 +49,7 @@ BakedPoints bake_points(const PathTracer &pt, const PointSet &query, int64_t beg
     const int nb = s.bin_resolution * s.bin_resolution;
     if (s.bins) out.bins.resize(size_t(n) * size_t(nb));
     const uint64_t rays0 = pt.accel().rays_traced();
-    Progress progress("bake", uint64_t(n), "points");
+    Progress progress("bake", uint64_t(n), "points", s.progress);
     parallel_for(0, n, 16, [&](int64_t i0, int64_t i1) {
         for (int64_t i = i0; i < i1; ++i) {
             const int64_t k = begin + i;

@@ -152,6 +152,7 @@ SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed
     bs.spp = test ? p.test_spp : p.spp;
     bs.max_depth = p.max_depth;
     bs.seed = seed;
+    bs.progress = false;   // per-scene bake bars would drown the dataset bar
     PathTracerConfig pc;
     pc.seed = seed;
     pc.max_depth = p.max_depth;
@@ -191,17 +192,8 @@ void build_dataset(const BuildOptions &opt) {
     // Nothing to build: no progress bar (a "0/1 scenes" line would say something is missing).
     std::optional<Progress> progress;
     if (!todo.empty()) progress.emplace("dataset", todo.size(), "scenes");
-    const LogLevel level = log_level();
     for (uint64_t seed : todo) {
-        set_log_level(LogLevel::quiet);   // per-scene bake bars would drown the dataset bar
-        SceneRecord r;
-        try {
-            r = make_record(opt.preset, gen, seed, opt.test);
-        } catch (...) {
-            set_log_level(level);
-            throw;
-        }
-        set_log_level(level);
+        const SceneRecord r = make_record(opt.preset, gen, seed, opt.test);
         write_record(opt.out_dir + "/" + record_file_name(seed), r);
         progress->add(1);
     }

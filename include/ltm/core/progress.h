@@ -12,8 +12,10 @@ namespace ltm {
 
 class Progress {
 public:
-    /// `unit` names what is counted ("points", "rays", "scenes"); total > 0.
-    Progress(std::string label, uint64_t total, std::string unit);
+    /// `unit` names what is counted ("points", "rays", "scenes"); total > 0. `show` false keeps it
+    /// silent (a step inside a larger loop that has its own bar); it also stays silent below
+    /// LogLevel::normal.
+    Progress(std::string label, uint64_t total, std::string unit, bool show = true);
     ~Progress();
     Progress(const Progress &) = delete;
     Progress &operator=(const Progress &) = delete;
