@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "ltm/core/file_util.h"
 #include "ltm/points/safetensors.h"
+#include "ltm/procgen/training_range.h"
 #include "ltm/scene/scene_io.h"
 #ifdef LTM_WITH_TORCH
 #include "ltm/nn/checkpoint.h"
@@ -77,6 +78,10 @@ Command make_info_command() {
                   << "bounds     " << b.lo << " - " << b.hi << " m\n"
                   << "cameras    " << s.cameras.size() << "\n";
         if (!s.has_emitter()) std::cout << "warning    no emitter: this scene renders black\n";
+        // The shipped models are unit-invariant: only the proportions are compared.
+        const auto range = scene_range_warnings(s, /*unit_free=*/true);
+        std::cout << "range      " << (range.empty() ? "inside the training houses' proportions (footprint / height 0.75-4.6, y up)" : range[0])
+                  << "\n";
         if (!s.metadata.empty()) std::cout << "metadata   " << s.metadata.dump().substr(0, 200) << "\n";
     };
     return c;

@@ -5,6 +5,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/eval/metrics.h"
 #include "ltm/infer/neural_renderer.h"
+#include "ltm/procgen/training_range.h"
 #include "ltm/scene/scene_io.h"
 
 namespace ltm::cli {

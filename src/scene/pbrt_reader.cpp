@@ -345,9 +345,13 @@ private:
             m_files.push_back(std::make_unique<PbrtTokenizer>(read_file(path), path));
         } else if (n == "AttributeBegin" || n == "TransformBegin") {
             m_stack.push_back(m_state);
+            m_stack_kind.push_back(n == "AttributeBegin" ? 'A' : 'T');
             m_state.transform_only = n == "TransformBegin";
         } else if (n == "AttributeEnd" || n == "TransformEnd") {
-            if (m_stack.empty()) LTM_THROW(d.where(), ": unbalanced ", n, " (no matching begin)");
+            // Each End closes its own kind of Begin (an ObjectBegin's state is ObjectEnd's to pop).
+            if (m_stack.empty() || m_stack_kind.back() != (n == "AttributeEnd" ? 'A' : 'T'))
+                LTM_THROW(d.where(), ": unbalanced ", n, " (no matching ", n == "AttributeEnd" ? "AttributeBegin" : "TransformBegin", ")");
+            m_stack_kind.pop_back();
             if (m_state.transform_only) {
                 const Mat4 ctm = m_stack.back().ctm;
                 m_stack.pop_back();
@@ -463,13 +467,16 @@ private:
             if (m_in_object) LTM_THROW(d.where(), ": ObjectBegin inside ObjectBegin");
             m_object_name = string();
             m_stack.push_back(m_state);
+            m_stack_kind.push_back('O');
             m_in_object = true;
             m_objects[m_object_name].clear();
         } else if (n == "ObjectEnd") {
-            if (!m_in_object) LTM_THROW(d.where(), ": ObjectEnd without ObjectBegin");
+            if (!m_in_object || m_stack.empty() || m_stack_kind.back() != 'O')
+                LTM_THROW(d.where(), ": ObjectEnd without a matching ObjectBegin");
             m_in_object = false;
             m_state = m_stack.back();
             m_stack.pop_back();
+            m_stack_kind.pop_back();
         } else if (n == "ObjectInstance") {
             const PbrtToken s = expect(Kind::string, "an object name");
             const auto it = m_objects.find(s.text);
@@ -755,6 +762,7 @@ private:
     std::vector<std::unique_ptr<PbrtTokenizer>> m_files;
     State m_state;
     std::vector<State> m_stack;
+    std::vector<char> m_stack_kind;   // what pushed each entry: 'A'ttribute, 'T'ransform, 'O'bject
     std::vector<PbrtMaterial> m_materials;
     std::map<std::string, int> m_named_materials;
     std::map<std::string, Texture> m_textures;

@@ -52,6 +52,7 @@ TEST(Cli, GenerateSamplePreviewSmoke) {
     r = run({"info", scene});
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.out.find("triangles"), std::string::npos);
+    EXPECT_NE(r.out.find("range      inside the training houses' proportions"), std::string::npos) << r.out;
 }
 
 TEST(Cli, SampleIsDeterministicAcrossThreadCounts) {

@@ -261,6 +261,11 @@ TEST(PbrtReader, BadInputIsALocatedOneLineError) {
     check("WorldBegin\nFrobnicate 1", "test.pbrt:2:1: unknown directive 'Frobnicate'");
     check("AttributeEnd", "test.pbrt:1:1: unbalanced AttributeEnd");
     check("AttributeBegin", "AttributeBegin without AttributeEnd");
+    // Found by the fuzzer: a TransformEnd inside ObjectBegin popped the object's state, and
+    // ObjectEnd then read an empty stack (use after free).
+    check("ObjectBegin \"o\" TransformEnd ObjectEnd", "test.pbrt:1:17: unbalanced TransformEnd");
+    check("AttributeBegin ObjectBegin \"o\" AttributeEnd", "unbalanced AttributeEnd");
+    check("TransformBegin AttributeEnd", "unbalanced AttributeEnd");
     check("Translate 1 nan 2", "test.pbrt:1:13: expected a number");
     check("Shape \"plymesh\" \"string filename\" \"missing.ply\"", "not found");
     check("Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 0 1] \"integer indices\" [0 1 5]", "index 5 out of range");

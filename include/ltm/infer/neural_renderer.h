@@ -24,11 +24,6 @@ struct LoadedModel {
 /// or foreign file.
 LoadedModel load_model(const std::string &path);
 
-/// Warnings for scenes unlike the training distribution: one line each. `unit_free` (a model
-/// with PhysicsConfig::length_scale) judges proportions only — footprint / height within the
-/// generated houses' 0.75–4.6, y up — since such a model does not see the unit of length;
-/// otherwise the extent in metres (footprint 1.5–14 m, height 1.5–4 m).
-std::vector<std::string> scene_range_warnings(const Scene &scene, bool unit_free);
 
 struct EncodedScene {
     SceneLatents latents;
