@@ -9,6 +9,7 @@
 #include "ltm/core/color.h"
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
+#include "ltm/core/ply_scalar.h"
 
 namespace ltm {
 
@@ -18,46 +19,6 @@ constexpr size_t k_max_points = size_t(1) << 31;
 
 bool is_rgb_byte_column(const std::string &name) {
     return name == "red" || name == "green" || name == "blue";
-}
-
-enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
-
-bool parse_type(const std::string &s, PlyType &t) {
-    static const std::pair<const char *, PlyType> names[] = {
-        {"char", PlyType::i8},   {"int8", PlyType::i8},     {"uchar", PlyType::u8},
-        {"uint8", PlyType::u8},  {"short", PlyType::i16},   {"int16", PlyType::i16},
-        {"ushort", PlyType::u16}, {"uint16", PlyType::u16}, {"int", PlyType::i32},
-        {"int32", PlyType::i32}, {"uint", PlyType::u32},    {"uint32", PlyType::u32},
-        {"float", PlyType::f32}, {"float32", PlyType::f32}, {"double", PlyType::f64},
-        {"float64", PlyType::f64}};
-    for (const auto &[n, ty] : names)
-        if (s == n) return t = ty, true;
-    return false;
-}
-
-size_t type_size(PlyType t) {
-    switch (t) {
-    case PlyType::i8: case PlyType::u8: return 1;
-    case PlyType::i16: case PlyType::u16: return 2;
-    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
-    case PlyType::f64: return 8;
-    }
-    return 0;
-}
-
-// Little-endian decode (this code runs on little-endian hosts only; checked at start-up).
-double decode_le(const char *p, PlyType t) {
-    switch (t) {
-    case PlyType::i8: { int8_t v; std::memcpy(&v, p, 1); return v; }
-    case PlyType::u8: { uint8_t v; std::memcpy(&v, p, 1); return v; }
-    case PlyType::i16: { int16_t v; std::memcpy(&v, p, 2); return v; }
-    case PlyType::u16: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-    case PlyType::i32: { int32_t v; std::memcpy(&v, p, 4); return v; }
-    case PlyType::u32: { uint32_t v; std::memcpy(&v, p, 4); return v; }
-    case PlyType::f32: { float v; std::memcpy(&v, p, 4); return v; }
-    case PlyType::f64: { double v; std::memcpy(&v, p, 8); return v; }
-    }
-    return 0;
 }
 
 struct Header {
@@ -126,7 +87,7 @@ Header parse_header(const std::string &bytes, const std::string &where) {
             }
             ss >> name;
             PlyType t;
-            if (!parse_type(type, t)) LTM_THROW(at, ": unknown property type '", type, "'");
+            if (!parse_ply_type(type, t)) LTM_THROW(at, ": unknown property type '", type, "'");
             if (name.empty()) LTM_THROW(at, ": property without a name");
             if (in_vertex) {
                 for (const auto &n : h.names)
@@ -155,7 +116,7 @@ PointSet parse_ply(const std::string &bytes, const std::string &where) {
     const size_t nc = h.names.size();
     if (h.binary) {
         size_t stride = 0;
-        for (PlyType t : h.types) stride += type_size(t);
+        for (PlyType t : h.types) stride += ply_type_size(t);
         const size_t available = bytes.size() - h.data_offset;
         if (h.n_vertices > available / stride)
             LTM_THROW(where, ": truncated: header declares ", h.n_vertices, " vertices of ", stride,
@@ -164,8 +125,8 @@ PointSet parse_ply(const std::string &bytes, const std::string &where) {
         const char *p = bytes.data() + h.data_offset;
         for (size_t i = 0; i < h.n_vertices; ++i)
             for (size_t c = 0; c < nc; ++c) {
-                pts.values[i * nc + c] = float(decode_le(p, h.types[c]));
-                p += type_size(h.types[c]);
+                pts.values[i * nc + c] = float(decode_ply_scalar(p, h.types[c]));
+                p += ply_type_size(h.types[c]);
             }
     } else {
         std::istringstream in(bytes.substr(h.data_offset));

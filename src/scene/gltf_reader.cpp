@@ -251,11 +251,7 @@ private:
                     else tm.indices.insert(tm.indices.end(), {idx[i - 1], idx[i - 2], idx[i]});
                 }
             }
-            std::vector<uint32_t> kept;   // zero-area triangles carry no surface
-            for (size_t t = 0; t < tm.n_triangles(); ++t)
-                if (tm.area(t) > 0.f) kept.insert(kept.end(), tm.indices.begin() + long(3 * t), tm.indices.begin() + long(3 * t + 3));
-            if (kept.size() != tm.indices.size()) warn("degenerate (zero-area) triangles dropped");
-            tm.indices = std::move(kept);
+            if (drop_degenerate_triangles(tm) > 0) warn("degenerate (zero-area) triangles dropped");
             if (tm.indices.empty()) continue;
             transform_mesh(tm, xf);   // flips the winding under a mirroring transform, as glTF specifies
             tm.material = material(p.material);

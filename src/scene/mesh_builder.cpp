@@ -89,4 +89,13 @@ void transform_mesh(TriangleMesh &mesh, const Transform &xf, size_t first_vertex
     }
 }
 
+size_t drop_degenerate_triangles(TriangleMesh &mesh) {
+    std::vector<uint32_t> kept;
+    for (size_t t = 0; t < mesh.n_triangles(); ++t)
+        if (mesh.area(t) > 0.f) kept.insert(kept.end(), mesh.indices.begin() + long(3 * t), mesh.indices.begin() + long(3 * t + 3));
+    const size_t dropped = mesh.n_triangles() - kept.size() / 3;
+    mesh.indices = std::move(kept);
+    return dropped;
+}
+
 }  // namespace ltm

@@ -211,13 +211,12 @@ private:
     std::string string() { return expect(Kind::string, "a quoted string").text; }
 
     // Numbers either bracketed or bare (pbrt accepts both for Transform/ConcatTransform).
-    std::vector<double> numbers(size_t n, const PbrtToken &at) {
+    std::vector<double> numbers(size_t n) {
         std::vector<double> v;
         const bool bracket = tok().peek().kind == Kind::open;
         if (bracket) tok().next();
         for (size_t i = 0; i < n; ++i) v.push_back(number());
         if (bracket) expect(Kind::close, "']'");
-        (void)at;
         return v;
     }
 
@@ -363,20 +362,20 @@ private:
         } else if (n == "Identity") {
             m_state.ctm = Mat4();
         } else if (n == "Translate") {
-            const auto v = numbers(3, d);
+            const auto v = numbers(3);
             apply(Mat4::from(Transform::translate(vec3_at(v, 0))));
         } else if (n == "Scale") {
-            const auto v = numbers(3, d);
+            const auto v = numbers(3);
             Mat4 s;
             s.m[0][0] = v[0], s.m[1][1] = v[1], s.m[2][2] = v[2];
             apply(s);
         } else if (n == "Rotate") {
-            const auto v = numbers(4, d);
+            const auto v = numbers(4);
             const Vec3f axis = vec3_at(v, 1);
             if (!(length(axis) > 0.f)) LTM_THROW(d.where(), ": Rotate about a zero axis");
             apply(Mat4::from(Transform::rotate(normalize(axis), float(v[0]))));
         } else if (n == "LookAt") {
-            const auto v = numbers(9, d);
+            const auto v = numbers(9);
             const Vec3f eye = vec3_at(v, 0), look = vec3_at(v, 3), up = vec3_at(v, 6);
             const Vec3f dir = look - eye;
             if (!(length(dir) > 0.f) || !(length(cross(normalize(up), normalize(dir))) > 1e-6f))
@@ -387,7 +386,7 @@ private:
             for (int c = 0; c < 4; ++c) w.m[0][c] = cols[c].x, w.m[1][c] = cols[c].y, w.m[2][c] = cols[c].z;
             apply(*w.inverse());
         } else if (n == "Transform" || n == "ConcatTransform") {
-            const auto v = numbers(16, d);
+            const auto v = numbers(16);
             Mat4 t;   // pbrt lists the matrix column by column (translation in elements 12–14)
             for (int i = 0; i < 4; ++i)
                 for (int j = 0; j < 4; ++j) t.m[i][j] = v[size_t(j * 4 + i)];
@@ -408,7 +407,7 @@ private:
             m_state.ctm = Mat4();
             m_coord["world"] = Mat4();
         } else if (n == "WorldEnd" || n == "TransformTimes") {
-            if (n == "TransformTimes") numbers(2, d);
+            if (n == "TransformTimes") numbers(2);
         } else if (n == "ActiveTransform") {
             expect(Kind::word, "StartTime, EndTime or All");
             warn("ActiveTransform ignored (no motion blur): every transform applies at all times");
@@ -730,18 +729,7 @@ private:
             }
             if (flip) std::swap(mesh.indices[3 * t + 1], mesh.indices[3 * t + 2]);
         }
-        // Degenerate triangles (zero area) carry no surface: dropped, counted.
-        std::vector<uint32_t> kept;
-        int64_t degenerate = 0;
-        for (size_t t = 0; t < mesh.n_triangles(); ++t) {
-            if (!(mesh.area(t) > 0.f)) {
-                ++degenerate;
-                continue;
-            }
-            kept.insert(kept.end(), mesh.indices.begin() + long(3 * t), mesh.indices.begin() + long(3 * t + 3));
-        }
-        if (degenerate) warn("degenerate (zero-area) triangles dropped");
-        mesh.indices = std::move(kept);
+        if (drop_degenerate_triangles(mesh) > 0) warn("degenerate (zero-area) triangles dropped");
         if (mesh.indices.empty()) return;
         if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) mesh.uvs.clear();
         if (m_state.ctm.det3() == 0 || !std::isfinite(m_state.ctm.det3())) LTM_THROW(d.where(), ": shape transform is singular or not finite");

@@ -10,33 +10,11 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
+#include "ltm/core/ply_scalar.h"
 
 namespace ltm {
 
 namespace {
-
-enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
-
-bool parse_type(const std::string &s, PlyType &t) {
-    static const std::pair<const char *, PlyType> names[] = {
-        {"char", PlyType::i8},   {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
-        {"short", PlyType::i16}, {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
-        {"int", PlyType::i32},   {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
-        {"float", PlyType::f32}, {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
-    for (const auto &[n, v] : names)
-        if (s == n) return t = v, true;
-    return false;
-}
-
-size_t type_size(PlyType t) {
-    switch (t) {
-    case PlyType::i8: case PlyType::u8: return 1;
-    case PlyType::i16: case PlyType::u16: return 2;
-    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
-    case PlyType::f64: return 8;
-    }
-    return 1;
-}
 
 struct Property {
     std::string name;
@@ -59,24 +37,11 @@ public:
 
     double read(PlyType t) {
         if (m_format == 0) return read_ascii();
-        const size_t n = type_size(t);
+        const size_t n = ply_type_size(t);
         if (m_pos + n > m_bytes.size()) LTM_THROW(m_where, ": file is truncated (data ends early)");
-        unsigned char b[8];
-        std::memcpy(b, m_bytes.data() + m_pos, n);
+        const double v = decode_ply_scalar(m_bytes.data() + m_pos, t, m_format == 2);
         m_pos += n;
-        if (m_format == 2)   // big-endian: reverse to the host's little-endian order
-            for (size_t i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
-        switch (t) {
-        case PlyType::i8: { int8_t v; std::memcpy(&v, b, 1); return v; }
-        case PlyType::u8: return b[0];
-        case PlyType::i16: { int16_t v; std::memcpy(&v, b, 2); return v; }
-        case PlyType::u16: { uint16_t v; std::memcpy(&v, b, 2); return v; }
-        case PlyType::i32: { int32_t v; std::memcpy(&v, b, 4); return v; }
-        case PlyType::u32: { uint32_t v; std::memcpy(&v, b, 4); return v; }
-        case PlyType::f32: { float v; std::memcpy(&v, b, 4); return v; }
-        case PlyType::f64: { double v; std::memcpy(&v, b, 8); return v; }
-        }
-        return 0;
+        return v;
     }
     size_t remaining() const { return m_bytes.size() - m_pos; }
 
@@ -160,11 +125,11 @@ PlyMesh parse_ply_mesh(const std::string &bytes, const std::string &where) {
             if (t == "list") {
                 std::string ct, it;
                 in >> ct >> it >> p.name;
-                if (!parse_type(ct, p.count_type) || !parse_type(it, p.type)) LTM_THROW(at, ": bad list types in '", line, "'");
+                if (!parse_ply_type(ct, p.count_type) || !parse_ply_type(it, p.type)) LTM_THROW(at, ": bad list types in '", line, "'");
                 p.is_list = true;
             } else {
                 in >> p.name;
-                if (!parse_type(t, p.type)) LTM_THROW(at, ": unknown property type '", t, "'");
+                if (!parse_ply_type(t, p.type)) LTM_THROW(at, ": unknown property type '", t, "'");
             }
             if (p.name.empty()) LTM_THROW(at, ": property without a name");
             elements.back().props.push_back(p);

@@ -124,6 +124,10 @@ TEST(PbrtReader, TransformsAndTheirScope) {
     EXPECT_NEAR(p(2, 1).x, 0.f, 1e-6f);
     EXPECT_NEAR(p(2, 1).z, -1.f, 1e-6f);
     EXPECT_EQ(p(3, 1), Vec3f(1.f, 0.f, 0.f));   // AttributeEnd restored the identity
+    // A zero-area triangle (repeated vertex) is dropped, the other kept.
+    const Scene dg = parse(R"(Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 0 1] "integer indices" [0 1 2 0 1 1])");
+    ASSERT_EQ(dg.meshes.size(), 1u);
+    EXPECT_EQ(dg.meshes[0].n_triangles(), 1u);
     // The mirror keeps orientation: the winding normal of (0,0,0),(1,0,0),(0,0,1) is −y.
     EXPECT_NEAR(unit_normal(s.meshes[3], 0).y, -1.f, 1e-6f);
 }

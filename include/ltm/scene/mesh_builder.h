@@ -19,6 +19,10 @@ void add_box(TriangleMesh &mesh, Vec3f lo, Vec3f hi);
 /// Closed cylinder along +y: base centre, radius, height, `segments` sides; outward normals.
 void add_cylinder(TriangleMesh &mesh, Vec3f base_center, float radius, float height, int segments);
 
+/// Removes the triangles of zero (or non-finite) area: they carry no surface and would fail
+/// validate_scene. Returns how many were removed. Used by the readers of foreign formats.
+size_t drop_degenerate_triangles(TriangleMesh &mesh);
+
 /// Applies an affine transform to every vertex appended from index `first_vertex` on;
 /// flips the winding of the affected triangles if the transform mirrors.
 void transform_mesh(TriangleMesh &mesh, const Transform &xf, size_t first_vertex = 0);
