@@ -1,4 +1,4 @@
-// trainer.cpp: every random choice of step t (scene, queries, PTv3 order shuffles) is a function
+// trainer.cpp: every random choice of step t (scenes, queries, PTv3 order shuffles) is a function
 // of (seed, t), so a resumed run repeats an uninterrupted one exactly.
 #include "ltm/train/trainer.h"
 
@@ -26,6 +26,7 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     TrainConfig c;
     c.steps = o.get_int("steps", c.steps);
     c.batch_queries = o.get_int("batch_queries", c.batch_queries);
+    c.scenes_per_step = o.get_int("scenes_per_step", c.scenes_per_step);
     c.lr = o.get_float("lr", c.lr);
     c.min_lr_ratio = o.get_float("min_lr_ratio", c.min_lr_ratio);
     c.warmup_steps = o.get_int("warmup_steps", c.warmup_steps);
@@ -47,6 +48,8 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     c.log_every = o.get_int("log_every", c.log_every);
     c.seed = uint64_t(o.get_int("seed", int(c.seed)));
     o.finish();
+    if (c.scenes_per_step < 1 || c.scenes_per_step > c.batch_queries)
+        LTM_THROW(o.where("scenes_per_step"), ": must be in [1, batch_queries]");
     if (c.steps < 1 || c.batch_queries < 1 || c.val_every < 1 || c.ckpt_every < 1 || c.log_every < 1 || c.val_queries < 1)
         LTM_THROW(where, ": steps, batch_queries, val_every, ckpt_every, log_every, val_queries must be >= 1");
     if (!(c.lr > 0.f) || !(c.loss_eps > 0.f) || !(c.grad_clip > 0.f)) LTM_THROW(where, ": lr, loss_eps, grad_clip must be > 0");
@@ -55,7 +58,7 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
 }
 
 OrderedJson TrainConfig::to_json() const {
-    return {{"steps", steps}, {"batch_queries", batch_queries}, {"lr", json_float(lr)}, {"min_lr_ratio", json_float(min_lr_ratio)},
+    return {{"steps", steps}, {"batch_queries", batch_queries}, {"scenes_per_step", scenes_per_step}, {"lr", json_float(lr)}, {"min_lr_ratio", json_float(min_lr_ratio)},
             {"warmup_steps", warmup_steps}, {"weight_decay", json_float(weight_decay)}, {"grad_clip", json_float(grad_clip)},
             {"loss", loss}, {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
             {"val_queries", val_queries}, {"val_every", val_every}, {"augment", augment}, {"select_by", select_by}, {"ckpt_every", ckpt_every},
@@ -139,37 +142,44 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
 
 TrainStepLog Trainer::train_step() {
     const int64_t t = m_step;
-    // Scene: a seeded permutation per epoch; queries: uniform with replacement.
-    const size_t n = m_train_paths.size();
-    const uint64_t epoch = uint64_t(t) / n;
-    std::vector<size_t> perm(n);
-    std::iota(perm.begin(), perm.end(), size_t(0));
-    Pcg32 perm_rng(hash_keys({m_cfg.seed, 0x5ce4e5ull, epoch}));
-    for (size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[perm_rng.next_below(uint32_t(i))]);
-    CachedScene &sc = scene(perm[uint64_t(t) % n]);
-    const int64_t nq = sc.query_points.size(0);
-    Pcg32 q_rng(hash_keys({m_cfg.seed, 0x9e4e5ull, uint64_t(t)}));
-    std::vector<int64_t> pick(size_t(m_cfg.batch_queries));
-    for (auto &p : pick) p = int64_t(q_rng.next_below(uint32_t(nq)));
-    const auto idx = torch::tensor(pick, torch::kInt64).to(m_device);
-    torch::manual_seed(hash_keys({m_cfg.seed, 0x0dde5ull, uint64_t(t)}) >> 1);   // PTv3 order shuffles
-    // One of the 8 horizontal symmetries per step (train/augment.h): targets and cached FPS/kNN stay valid.
-    const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, uint64_t(t)}) % k_n_symmetries) : 0;
-    const auto scene_points = apply_symmetry(sc.scene_points, sym);
-    const auto queries = apply_symmetry(sc.query_points.index_select(0, idx), sym);
-
     const double lr = learning_rate(m_cfg, t);
     for (auto &group : m_opt->param_groups()) static_cast<torch::optim::AdamWOptions &>(group.options()).lr(lr);
     m_model->train();
     m_opt->zero_grad();
-    const SceneLatents lat = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
-    const auto z = m_model->decode(queries, lat);
-    const auto l = loss(z, sc.target.index_select(0, idx), lat);
-    TrainStepLog log{t, l.item<double>(), lr, 0.0, false};
-    if (!std::isfinite(log.loss)) {
-        log.skipped = true;
-    } else {
-        l.backward();
+    // Scene draw u = t·K + k (K scenes per step): every random choice is a function of (seed, u),
+    // so K = 1 repeats the one-scene trainer exactly. Scenes follow a seeded permutation per epoch;
+    // queries are uniform with replacement; the batch's queries are split evenly over the K scenes.
+    const int64_t K = m_cfg.scenes_per_step;
+    const size_t n = m_train_paths.size();
+    TrainStepLog log{t, 0.0, lr, 0.0, false};
+    for (int64_t k = 0; k < K && !log.skipped; ++k) {
+        const uint64_t u = uint64_t(t * K + k);
+        const uint64_t epoch = u / n;
+        std::vector<size_t> perm(n);
+        std::iota(perm.begin(), perm.end(), size_t(0));
+        Pcg32 perm_rng(hash_keys({m_cfg.seed, 0x5ce4e5ull, epoch}));
+        for (size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[perm_rng.next_below(uint32_t(i))]);
+        CachedScene &sc = scene(perm[u % n]);
+        const int64_t nq = sc.query_points.size(0);
+        const int64_t share = m_cfg.batch_queries / K + (k < m_cfg.batch_queries % K ? 1 : 0);
+        Pcg32 q_rng(hash_keys({m_cfg.seed, 0x9e4e5ull, u}));
+        std::vector<int64_t> pick(static_cast<size_t>(share));
+        for (auto &p : pick) p = int64_t(q_rng.next_below(uint32_t(nq)));
+        const auto idx = torch::tensor(pick, torch::kInt64).to(m_device);
+        torch::manual_seed(hash_keys({m_cfg.seed, 0x0dde5ull, u}) >> 1);   // PTv3 order shuffles
+        // One of the 8 horizontal symmetries per scene draw (train/augment.h): targets and cached FPS/kNN stay valid.
+        const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, u}) % k_n_symmetries) : 0;
+        const auto scene_points = apply_symmetry(sc.scene_points, sym);
+        const auto queries = apply_symmetry(sc.query_points.index_select(0, idx), sym);
+        const SceneLatents lat = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
+        const auto z = m_model->decode(queries, lat);
+        // The step's loss is the mean of the scenes' losses; gradients accumulate scene by scene.
+        const auto l = loss(z, sc.target.index_select(0, idx), lat) / double(K);
+        const double v = l.item<double>();
+        if (!std::isfinite(v)) log.skipped = true;
+        else l.backward(), log.loss += v;
+    }
+    if (!log.skipped) {
         log.grad_norm = torch::nn::utils::clip_grad_norm_(m_model->parameters(), m_cfg.grad_clip);
         if (!std::isfinite(log.grad_norm)) log.skipped = true;
         else m_opt->step();

@@ -73,6 +73,40 @@ TEST(Trainer, ResumeRepeatsTheUninterruptedLossSequence) {
     EXPECT_THROW(Trainer(mc, small_train(6), {dataset_dir()}, dir.path("full")).run(false), Error);   // would overwrite
 }
 
+// K scenes per step: the step's loss is the mean of K scene draws, each the draw the one-scene
+// trainer makes at step t·K + k. With lr = 0 the weights stay put, so one step of K = 2 (batch
+// 2·1024) must equal the mean of two steps of K = 1 (batch 1024); a resume is exact with K = 2 too.
+TEST(Trainer, ScenesPerStepAverageTheOneSceneDraws) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    TrainConfig one = small_train(2);
+    one.lr = 0.f;   // bypasses from_json's check on purpose: AdamW with lr 0 changes nothing
+    one.val_fraction = 0.f;   // both records train: the two draws may be different scenes
+    TrainConfig two = one;
+    two.steps = 1, two.scenes_per_step = 2, two.batch_queries = 2 * one.batch_queries;
+    Trainer a(mc, one, {dataset_dir()}, dir.path("one"));
+    a.run(false);
+    Trainer b(mc, two, {dataset_dir()}, dir.path("two"));
+    b.run(false);
+    const double mean = 0.5 * (a.history()[0].loss + a.history()[1].loss);
+    EXPECT_NEAR(b.history()[0].loss, mean, 1e-12 * mean);
+    EXPECT_NE(a.history()[0].loss, a.history()[1].loss);   // two different draws, not one twice
+
+    TrainConfig k2 = small_train(4);
+    k2.scenes_per_step = 2;
+    Trainer full(mc, k2, {dataset_dir()}, dir.path("full"));
+    full.run(false);
+    Trainer first(mc, k2, {dataset_dir()}, dir.path("split"));
+    first.run(false, /*stop_at=*/2);
+    Trainer second(mc, k2, {dataset_dir()}, dir.path("split"));
+    second.run(true);
+    for (size_t i = 0; i < 4; ++i)
+        EXPECT_EQ(full.history()[i].loss, i < 2 ? first.history()[i].loss : second.history()[i - 2].loss) << "step " << i;
+    Json j = TrainConfig{}.to_json();
+    j["scenes_per_step"] = 0;
+    EXPECT_THROW(TrainConfig::from_json(j, "t"), Error);
+}
+
 // Validation logs the floors and the physics: the exact model's emission ×4 and unit ×10 errors
 // are float rounding, its metrics are finite, and the flat-oracle ratio is what select_by uses.
 TEST(Trainer, ValidationReportsPhysicsAndTheFlatOracle) {

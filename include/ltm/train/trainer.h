@@ -18,6 +18,11 @@ namespace ltm {
 struct TrainConfig {
     int steps = 20000;            ///< optimizer steps
     int batch_queries = 8192;     ///< query points per step (paper: 8192)
+    /// Scenes encoded per step; the batch's queries are split evenly among them. One scene per
+    /// step makes every gradient a single house's (its level error dominates it); the authors' code
+    /// draws 3. Costs one encoder pass per scene (gradients accumulate scene by scene, so memory
+    /// stays that of one).
+    int scenes_per_step = 1;
     float lr = 1e-3f;             ///< peak learning rate
     float min_lr_ratio = 0.05f;   ///< cosine decays to lr·ratio
     int warmup_steps = 500;       ///< linear warm-up from 0
