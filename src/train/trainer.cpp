@@ -199,6 +199,13 @@ torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target,
 }
 
 namespace {
+// k rows spread evenly over n: records keep their query points in surface-stratum order (mesh by
+// mesh), so the first k rows would be one part of the house, not a sample of it.
+torch::Tensor spread_rows(int64_t n, int64_t k, torch::Device device) {
+    k = std::min(k, n);
+    return torch::div(torch::arange(k, torch::kInt64) * n, k, "floor").to(device);
+}
+
 std::vector<float> cpu_floats(const torch::Tensor &t) {
     const auto c = t.detach().to(torch::kCPU, torch::kFloat32).contiguous();
     return {c.data_ptr<float>(), c.data_ptr<float>() + c.numel()};
@@ -206,7 +213,7 @@ std::vector<float> cpu_floats(const torch::Tensor &t) {
 }  // namespace
 
 OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
-    const auto qp = sc.query_points.slice(0, 0, nq);
+    const auto qp = sc.query_points.index_select(0, spread_rows(sc.query_points.size(0), nq, m_device));
     const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale));
     const double mean = base.abs().mean().item<double>() + 1e-30;
     // Emission ×4: E⁺ ×4 (bit-exact for a power of two when emission_scale is on).
@@ -233,10 +240,11 @@ double Trainer::validate() {
     int in_band = 0, beats = 0;
     for (size_t i = 0; i < m_val_paths.size(); ++i) {
         CachedScene &sc = scene(m_train_paths.size() + i);
-        const int64_t nq = std::min<int64_t>(m_cfg.val_queries, sc.query_points.size(0));
+        const auto rows = spread_rows(sc.query_points.size(0), m_cfg.val_queries, m_device);
+        const int64_t nq = rows.size(0);
         const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale);
-        const auto z = m_model->decode(sc.query_points.slice(0, 0, nq), lat);
-        const auto target = sc.target.slice(0, 0, nq);
+        const auto z = m_model->decode(sc.query_points.index_select(0, rows), lat);
+        const auto target = sc.target.index_select(0, rows);
         const auto pred = irradiance_from_z(z, lat);
         sum += loss(z, target, lat).item<double>();
         // Plain MSE of log1p(E⁺): not dominated by a few dark points the way a relative loss is.

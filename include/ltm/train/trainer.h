@@ -38,7 +38,7 @@ struct TrainConfig {
     float loss_eps = 1.0f;
     float val_fraction = 0.1f;    ///< highest-seed records held out for validation (seeds disjoint)
     int val_scenes = 8;           ///< at most this many held-out scenes are evaluated
-    int val_queries = 8192;       ///< first queries of each validation scene
+    int val_queries = 8192;       ///< queries per validation scene, spread evenly over its records' rows
     int val_every = 250;          ///< steps between validations (and best-checkpoint updates)
     /// Each step sees its scene turned by k·90° about +y and/or mirrored (train/augment.h): 8× the
     /// scene configurations for the same records. Validation never is.
