@@ -5,13 +5,13 @@
 #   1. data/cpu-s32  seeds 0..N-1 at `cpu-s32` (16 384 queries, 32-spp labels: ~8× cheaper than
 #      256 spp; the relative-l2 loss's minimiser is the mean of noisy targets, so they train an
 #      unbiased model).
-#   1b. data/val-s256 seeds 100000..100007 at `cpu-q16k` (256 spp): a fixed validation set
+#   1b. data/val-s256 seeds 100000..100031 at `cpu-q16k` (256 spp): a fixed validation set
 #      (--val-data) that stays the same while the training data grows between sessions.
 #   2. runs/cpu-phys configs/model/cpu.json (emission- and unit-normalised, power-balance prior)
 #      from scratch with configs/train/physics.json; best.ltmckpt = lowest MSE / flat-oracle MSE.
 #   3. export best.ltmckpt as F16 safetensors to $EXPORT.
 # Usage: nohup nice scripts/train-physics.sh > train-physics.log 2>&1 &
-#   (BUILD or LTM, SEEDS (a:b, default 0:1200), RUN, EXPORT, THREADS override; INIT=weights.safetensors
+#   (BUILD or LTM, SEEDS (a:b, default 0:1200), RUN, EXPORT, THREADS, MODEL (a model config) override; INIT=weights.safetensors
 #   fine-tunes from them, e.g. the shipped model; extra args after the script go to `ltm train`,
 #   e.g. --set steps=2400 --set warmup_steps=100)
 set -euo pipefail
@@ -22,9 +22,10 @@ INIT=${INIT:-}
 RUN=${RUN:-runs/cpu-phys}
 EXPORT=${EXPORT:-runs/ltm-cpu-phys.safetensors}
 THREADS=${THREADS:-0}
-"$LTM" dataset build --config configs/data/cpu-q16k.json --seed-range 100000:100008 -o data/val-s256 --threads "$THREADS"
+MODEL=${MODEL:-configs/model/cpu.json}
+"$LTM" dataset build --config configs/data/cpu-q16k.json --seed-range 100000:100032 -o data/val-s256 --threads "$THREADS"
 "$LTM" dataset build --config configs/data/cpu-s32.json --seed-range "$SEEDS" -o data/cpu-s32 --threads "$THREADS"
-train=("$LTM" train --threads "$THREADS" --model configs/model/cpu.json --data data/cpu-s32 --val-data data/val-s256 --out "$RUN"
+train=("$LTM" train --threads "$THREADS" --model "$MODEL" --data data/cpu-s32 --val-data data/val-s256 --out "$RUN"
        --config configs/train/physics.json "$@")
 if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume
 elif [[ -n "$INIT" ]]; then "${train[@]}" --init "$INIT"

@@ -354,7 +354,10 @@ FusedDecoder::FusedDecoder(const QueryDecoderImpl &dec) {
     const auto lin = [&](const std::string &n) { return dense(p(n + ".weight"), p(n + ".bias")); };
     const auto ln = [&](const std::string &n) { return norm(p(n + ".weight"), p(n + ".bias")); };
     m_w.dim = int(dec.cfg.dim), m_w.groups = int(dec.cfg.groups);
-    m_w.embed1 = lin("embed.0"), m_w.embed_ln = ln("embed.1"), m_w.embed2 = lin("embed.3");
+    // Without absolute positions 𝓗 sees (0, 0, 0, n, albedo): the same as zero weight columns for p.
+    auto embed1_w = p("embed.0.weight");
+    if (!dec.cfg.absolute_position) embed1_w.slice(1, 0, 3).zero_();
+    m_w.embed1 = dense(embed1_w, p("embed.0.bias")), m_w.embed_ln = ln("embed.1"), m_w.embed2 = lin("embed.3");
     m_w.pos1 = lin("pos_mlp.0"), m_w.pos2 = lin("pos_mlp.2");
     m_w.out_ln = ln("out.0"), m_w.out1 = lin("out.1"), m_w.out2 = lin("out.3");
     const auto w2 = p("pos_mlp.2.weight"), b2 = p("pos_mlp.2.bias");

@@ -85,6 +85,7 @@ torch::Tensor normalize_query_points(const torch::Tensor &qp, const SceneNormali
 
 LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
     cfg.encoder.in_channels = cfg.embedding.dim;
+    cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
     embedding = register_module("embedding", NNEmbedding(cfg.embedding));
     encoder = register_module("encoder", PTv3(cfg.encoder));
     decoder = register_module("decoder", QueryDecoder(cfg.decoder, encoder->out_channels()));

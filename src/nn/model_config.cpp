@@ -51,6 +51,7 @@ ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
         c.physics.emission_scale = ph.get_bool("emission_scale", c.physics.emission_scale);
         c.physics.length_scale = ph.get_bool("length_scale", c.physics.length_scale);
         c.physics.prior_bounces = ph.get_int("prior_bounces", c.physics.prior_bounces);
+        c.physics.translation_invariant = ph.get_bool("translation_invariant", c.physics.translation_invariant);
         ph.finish();
         if (c.physics.prior_bounces < 0 || c.physics.prior_bounces > 64)
             LTM_THROW(ph.where("prior_bounces"), ": must be in [0, 64]");
@@ -77,9 +78,13 @@ OrderedJson ModelConfig::to_json() const {
     j["encoder"] = enc;
     j["decoder"] = {{"type", decoder.type}, {"dim", decoder.dim}, {"n_neighbors", decoder.n_neighbors},
                     {"n_layers", decoder.n_layers}, {"groups", decoder.groups}};
-    if (physics.any())
+    if (physics.any()) {
         j["physics"] = {{"emission_scale", physics.emission_scale}, {"length_scale", physics.length_scale},
                         {"prior_bounces", physics.prior_bounces}};
+        // Written only when on: configs and weights from before the key keep their exact JSON
+        // (checkpoints compare it on resume).
+        if (physics.translation_invariant) j["physics"]["translation_invariant"] = true;
+    }
     return j;
 }
 

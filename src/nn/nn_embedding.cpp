@@ -1,6 +1,7 @@
 // nn_embedding.cpp: eqs. 5–7. LayerNorm instead of BatchNorm: batches are one scene, and
 // train/eval must behave the same.
 #include "ltm/nn/nn_embedding.h"
+#include "ltm/nn/point_tensor.h"
 
 namespace ltm {
 
@@ -20,7 +21,7 @@ torch::Tensor NNEmbeddingImpl::forward(const torch::Tensor &x, const torch::Tens
     TORCH_CHECK(centers.dim() == 1 && groups.dim() == 2 && groups.size(0) == centers.size(0),
                 "NNEmbedding: centers [m] and groups [m, k] expected, got ", centers.sizes(), " and ", groups.sizes());
     const int64_t m = centers.size(0), k = groups.size(1);
-    const auto fx = f->forward(x);                                     // [M, D]      (eq. 5)
+    const auto fx = f->forward(cfg.absolute_position ? x : without_position(x));   // [M, D]      (eq. 5)
     const auto fc = fx.index_select(0, centers);                       // [m, D]      X̃_l
     const auto fg = fx.index_select(0, groups.reshape(-1)).view({m, k, -1});   // [m, k, D]
     std::vector<torch::Tensor> parts = {fg - fc.unsqueeze(1), fc.unsqueeze(1).expand({m, k, fc.size(1)})};   // (eq. 6)

@@ -13,4 +13,9 @@ torch::Tensor rows_tensor(const std::vector<float> &values, int64_t cols) {
 
 torch::Tensor point_tensor(const PointSet &p) { return rows_tensor(p.values, int64_t(p.n_columns())); }
 
+torch::Tensor without_position(const torch::Tensor &rows) {
+    TORCH_CHECK(rows.dim() == 2 && rows.size(1) >= 3, "without_position: rows must be [N, C >= 3], got ", rows.sizes());
+    return torch::cat({torch::zeros_like(rows.slice(1, 0, 3)), rows.slice(1, 3)}, 1);
+}
+
 }  // namespace ltm

@@ -1,6 +1,7 @@
 // query_decoder.cpp: pre-norm residual blocks (h += Attn(LN h); h += FFN(LN h)), softplus output
 // so z = log1p(E⁺) is never negative and the loss denominator stays positive.
 #include "ltm/nn/query_decoder.h"
+#include "ltm/nn/point_tensor.h"
 
 #include "ltm/nn/nn_embedding.h"
 
@@ -67,7 +68,7 @@ torch::Tensor QueryDecoderImpl::forward(const torch::Tensor &query, const torch:
                 "QueryDecoder: latents [m, C] and anchors [m, 3] expected, got ", latents.sizes(), " and ", anchors.sizes());
     TORCH_CHECK(idx.dim() == 2 && idx.size(0) == query.size(0), "QueryDecoder: idx must be [N, κ], got ", idx.sizes());
     const int64_t n = idx.size(0), kappa = idx.size(1);
-    auto h = embed->forward(query);   // G̃_j (eq. 9)
+    auto h = embed->forward(cfg.absolute_position ? query : without_position(query));   // G̃_j (eq. 9)
     if (cfg.type == "knn-mean") {
         const auto lat = latent_proj->forward(latents).index_select(0, idx.reshape(-1)).view({n, kappa, -1}).mean(1);
         h = h + ffn[0]->as<torch::nn::SequentialImpl>()->forward(torch::cat({h, lat}, 1));

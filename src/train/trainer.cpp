@@ -107,8 +107,11 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
 
 void Trainer::init_weights(const std::string &path) {
     LtmModel w = load_weights(path);
+    // Like load_state_dict(strict=True): every tensor must exist with its shape (load_state throws
+    // otherwise). The configs may differ where no tensor does — e.g. turning physics switches on
+    // for a fine-tune — and the log says so.
     if (w->cfg.to_json().dump() != m_model_cfg.to_json().dump())
-        LTM_THROW(path, ": weights of model config '", w->cfg.name, "' do not match the model config '", m_model_cfg.name, "'");
+        log_info(path, ": its model config differs from '", m_model_cfg.name, "' (same tensors; fine-tuning into the new config)");
     std::map<std::string, torch::Tensor> tensors;
     for (const auto &p : w->named_parameters()) tensors[p.key()] = p.value();
     for (const auto &b : w->named_buffers()) tensors[b.key()] = b.value();

@@ -72,6 +72,15 @@ TEST(FusedDecoder, MatchesModuleCpuConfig) {
     expect_fused_matches_module(mc.decoder, /*latent_dim=*/64);
 }
 
+// Without absolute positions (PhysicsConfig::translation_invariant) the fused path zeroes 𝓗's
+// position columns; the module zeroes the input: the same decoder.
+TEST(FusedDecoder, MatchesModuleWithoutAbsolutePosition) {
+    torch::manual_seed(13);
+    DecoderConfig cfg = ModelConfig::from_file(test::source_path("configs/model/cpu.json")).decoder;
+    cfg.absolute_position = false;
+    expect_fused_matches_module(cfg, /*latent_dim=*/64);
+}
+
 TEST(FusedDecoder, ResultIndependentOfThreadCount) {
     torch::manual_seed(13);
     DecoderConfig cfg;   // defaults = cpu preset decoder

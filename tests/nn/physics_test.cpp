@@ -8,6 +8,7 @@
 #include <torch/torch.h>
 
 #include "ltm/core/error.h"
+#include "ltm/nn/knn.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/power_balance.h"
@@ -105,6 +106,45 @@ TEST(Physics, UnitOfLengthDoesNotMatterAndLegacyDoes) {
     v03.physics = PhysicsConfig::legacy();
     LtmModel legacy = make_model(v03, 4);
     EXPECT_GT(relative_error(predict(legacy, scaled(f.sp, 0, 3, 2.0), scaled(f.qp, 0, 3, 2.0)), predict(legacy, f.sp, f.qp)), 0.05);
+}
+
+// translation_invariant: no layer sees an absolute position, so moving the scene points and the
+// queries by t changes nothing but rounding — in the embedding and in the decoder separately (the
+// whole model would hide it: its normalisation subtracts the bounding-box centre). A model that
+// feeds absolute positions to 𝓕 and 𝓗 (the default) moves.
+TEST(Physics, TranslationInvariantLayersIgnoreWhereTheSceneIs) {
+    Fixture f;
+    for (const bool invariant : {true, false}) {
+        ModelConfig cfg = f.cfg;
+        cfg.physics.translation_invariant = invariant;
+        LtmModel m = make_model(cfg, 5);
+        torch::NoGradGuard g;
+        for (auto &p : m->embedding->parameters()) p.normal_(0.0, 0.5);
+        const auto geometry = m->scene_geometry(f.sp);
+        const auto shift = torch::tensor({3.f, -2.f, 5.f});
+        auto sp_t = f.sp.clone(), qp_t = f.qp.clone();
+        sp_t.slice(1, 0, 3).add_(shift);
+        qp_t.slice(1, 0, 3).add_(shift);
+        const auto tokens = m->embedding->forward(f.sp, geometry.centers, geometry.groups);
+        const auto tokens_t = m->embedding->forward(sp_t, geometry.centers, geometry.groups);
+        const auto anchors = f.sp.slice(1, 0, 3).index_select(0, geometry.centers);
+        const auto latents = torch::randn({anchors.size(0), m->encoder->out_channels()});
+        const auto idx = knn(f.qp.slice(1, 0, 3).contiguous(), anchors.contiguous(), cfg.decoder.n_neighbors);
+        const auto z = m->decoder->forward(f.qp, latents, anchors, idx);
+        const auto z_t = m->decoder->forward(qp_t, latents, anchors + shift, idx);
+        if (invariant) {
+            EXPECT_LT(relative_error(tokens_t, tokens), 1e-5);
+            EXPECT_LT(relative_error(z_t, z), 1e-5);
+        } else {
+            EXPECT_GT(relative_error(tokens_t, tokens), 1e-2);
+            EXPECT_GT(relative_error(z_t, z), 1e-2);
+        }
+    }
+    // The key round-trips, and only when on (older configs keep their exact JSON).
+    ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/cpu.json"));
+    EXPECT_FALSE(cfg.to_json()["physics"].contains("translation_invariant"));
+    cfg.physics.translation_invariant = true;
+    EXPECT_TRUE(ModelConfig::from_json(cfg.to_json(), "t").physics.translation_invariant);
 }
 
 TEST(Physics, DarkChannelsStayDarkAndExtremeRadianceIsFinite) {

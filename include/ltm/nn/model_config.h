@@ -15,6 +15,9 @@ struct EmbeddingConfig {
     int k = 16;                     ///< neighbours grouped around each FPS centre (paper: open)
     float sample_ratio = 0.5f;      ///< m = M·ratio FPS centres (paper: M → M/2)
     bool relative_position = true;  ///< also feed p_j − p̃_l to 𝓖 (PointNet++ style; eq. 6 omits it)
+    /// Feed the absolute position p_j to 𝓕 (eq. 5). Not a JSON key: LtmModel sets it from
+    /// PhysicsConfig::translation_invariant (off: 𝓕 sees normal, albedo, emission only).
+    bool absolute_position = true;
 };
 
 /// Local query decoder (paper eqs. 9–14) or the knn-mean ablation.
@@ -24,6 +27,9 @@ struct DecoderConfig {
     int n_neighbors = 32;            ///< κ nearest anchors per query (paper Tab. 2: 32)
     int n_layers = 2;                ///< stacked cross-attention blocks ("iteratively aggregate")
     int groups = 8;                  ///< G weight groups of grouped vector attention (PTv2)
+    /// Feed the query's absolute position to 𝓗 (eq. 9); positions still enter as Δp (eq. 10). Not
+    /// a JSON key: LtmModel sets it from PhysicsConfig::translation_invariant.
+    bool absolute_position = true;
 };
 
 /// Exact physical normalisations (docs/model.md, "Physics by construction"). Light transport is
@@ -42,9 +48,14 @@ struct PhysicsConfig {
     /// The output is a ratio to the enclosure power balance: area-mean E⁺ ≈ S_c · Σ_{k=1..D} ρ̄_c^k
     /// (ρ̄_c the mean albedo of the scene points), D = prior_bounces; 0 = no prior (needs emission_scale).
     int prior_bounces = 5;
+    /// E⁺ moves with the scene: no layer sees an absolute position, only differences (embedding
+    /// groups, PTv3's grid relative to the scene's minimum corner, the decoder's Δp). Without it,
+    /// positions relative to the bounding-box centre reach 𝓕 and 𝓗, a shortcut by which a network
+    /// can fit a field per position (the dataset's average house) instead of reading the scene.
+    bool translation_invariant = false;
 
-    static PhysicsConfig legacy() { return {false, false, 0}; }
-    bool any() const { return emission_scale || length_scale || prior_bounces > 0; }
+    static PhysicsConfig legacy() { return {false, false, 0, false}; }
+    bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }
 };
 
 struct ModelConfig {

@@ -17,4 +17,8 @@ torch::Tensor rows_tensor(const std::vector<float> &values, int64_t cols);
 /// PointSet -> owned float32 tensor [p.size(), p.n_columns()] (e.g. scene points [M, 12]).
 torch::Tensor point_tensor(const PointSet &p);
 
+/// Point rows [N, C] (C >= 3, position in columns 0..2) with the position zeroed: what a layer
+/// that must not see absolute positions gets (PhysicsConfig::translation_invariant).
+torch::Tensor without_position(const torch::Tensor &rows);
+
 }  // namespace ltm

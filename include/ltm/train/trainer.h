@@ -73,8 +73,8 @@ public:
     Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::vector<std::string> &data_dirs,
             const std::string &out_dir, torch::Device device = torch::kCPU,
             const std::vector<std::string> &val_dirs = {});
-    /// Starts from exported weights (fine-tuning; the optimizer starts fresh). The weights'
-    /// config must equal the model config.
+    /// Starts from exported weights (fine-tuning; the optimizer starts fresh). Every tensor of the
+    /// model must be in the weights with its shape; the configs may differ where no tensor does.
     void init_weights(const std::string &weights_path);
     /// Trains up to cfg.steps (or stop_at, if smaller); with resume, continues from last.ltmckpt.
     void run(bool resume, int64_t stop_at = -1);
