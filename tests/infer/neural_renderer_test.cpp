@@ -7,6 +7,9 @@
 #include "ltm/render/direct_light.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/scene/scene_io.h"
+#include "ltm/scene/builtin_scenes.h"
+#include "ltm/scene/pbrt_reader.h"
+#include "pbrt_writer.h"
 #include "test_util.h"
 
 using namespace ltm;
@@ -182,4 +185,48 @@ TEST(NeuralRenderer, AutomaticDirectLightIsTheRatioEstimator) {
     EXPECT_EQ(r.image.direct.pixels, want.pixels);
     EXPECT_EQ(parse_direct_estimator("mis"), DirectEstimator::mis);
     EXPECT_THROW(parse_direct_estimator("fast"), Error);
+}
+
+// A scene in centimetres with z up predicts what its metric y-up twin predicts (issue #12): the
+// pbrt reader turns it y-up, and the shipped model's normalisations divide out the unit (exact
+// emission scale Φ/A, lengths in units of the point spacing ℓ, the enclosure filter's ray offset
+// relative to the scene's extent) — so only float rounding in the resampled points remains.
+TEST(NeuralRenderer, CentimetreZUpTwinPredictsWhatTheMetricSceneDoes) {
+    const Scene metric = parse_pbrt(test::pbrt_text(cornell_box()), "metric.pbrt", ".");
+    const Scene twin = parse_pbrt(test::pbrt_text(cornell_box(), 100.f, /*z_up=*/true), "twin.pbrt", ".");
+    // Mean relative difference of E⁺ over the camera's pixels between the two scenes.
+    const auto difference = [&](LtmModel &model) {
+        std::vector<Vec3f> e[2];
+        const Scene *scenes[2] = {&metric, &twin};
+        for (int i = 0; i < 2; ++i) {
+            const EmbreeAccel accel(*scenes[i]);
+            Camera cam = scenes[i]->cameras[0];
+            cam.width = cam.height = 24;
+            e[i] = predict_gbuffer(model, encode_scene(model, accel, /*seed=*/1), render_gbuffer(accel, cam));
+        }
+        EXPECT_EQ(e[0].size(), e[1].size());
+        EXPECT_GT(e[0].size(), 100u);
+        double diff = 0, mean = 0;
+        for (size_t k = 0; k < std::min(e[0].size(), e[1].size()); ++k)
+            for (int c = 0; c < 3; ++c) diff += std::abs(e[1][k][c] - e[0][k][c]), mean += e[0][k][c];
+        EXPECT_GT(mean, 0.0);
+        return diff / mean;
+    };
+    LtmModel shipped = load_weights(test::source_path("models/ltm-cpu.safetensors"));
+    shipped->eval();
+    const double d = difference(shipped);
+    std::cout << "cm z-up twin: mean relative E⁺ difference " << d << " (shipped model)\n";
+    EXPECT_LT(d, 0.02);
+    // The test can tell: a model without the physics normalisations (v0.3's configuration) sees
+    // positions in the file's unit and moves.
+    ModelConfig legacy = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    legacy.physics = PhysicsConfig::legacy();
+    torch::manual_seed(5);
+    LtmModel old(legacy);
+    {
+        torch::NoGradGuard g;
+        for (auto &p : old->parameters()) p.add_(torch::randn_like(p) * 0.2);
+    }
+    old->eval();
+    EXPECT_GT(difference(old), 0.05);
 }

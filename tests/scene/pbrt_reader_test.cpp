@@ -17,6 +17,7 @@
 #include "ltm/scene/pbrt_tokenizer.h"
 #include "ltm/scene/ply_mesh.h"
 #include "ltm/scene/scene_io.h"
+#include "pbrt_writer.h"
 #include "test_util.h"
 
 using namespace ltm;
@@ -281,36 +282,13 @@ TEST(PbrtReader, BadInputIsALocatedOneLineError) {
     check("Include \"nothere.pbrt\"", "not found");
 }
 
-// The Cornell box written as pbrt-v4 (each built-in triangle as a trianglemesh with normals,
-// "Scale -1 1 1" + LookAt as in Bitterli's pbrt-v4 scenes) reads back as the same scene.
+// The Cornell box written as pbrt-v4 (tests/pbrt_writer.h: a trianglemesh with normals per mesh,
+// "Scale -1 1 1" + LookAt as in Bitterli's pbrt-v4 scenes) reads back as the same scene; so does
+// its twin in centimetres with z up, at ×100.
 TEST(PbrtReader, CornellBoxTwinHasTheSameGeometryLightAndCamera) {
     const Scene ref = cornell_box();
-    std::ostringstream f;
-    f.precision(9);
     const Camera &c = ref.cameras[0];
-    f << "Scale -1 1 1\nLookAt " << c.eye.x << " " << c.eye.y << " " << c.eye.z << " " << c.target.x << " " << c.target.y << " "
-      << c.target.z << " 0 1 0\nCamera \"perspective\" \"float fov\" " << c.fov_y_deg << "\nFilm \"rgb\" \"integer xresolution\" "
-      << c.width << " \"integer yresolution\" " << c.height << "\nWorldBegin\n";
-    for (const TriangleMesh &m : ref.meshes) {
-        const Material &mat = ref.materials[size_t(m.material)];
-        f << "AttributeBegin\nMaterial \"diffuse\" \"rgb reflectance\" [" << mat.albedo.color_a.x << " " << mat.albedo.color_a.y
-          << " " << mat.albedo.color_a.z << "]\n";
-        if (mat.is_emissive())
-            f << "AreaLightSource \"diffuse\" \"rgb L\" [" << mat.emission.color_a.x << " " << mat.emission.color_a.y << " "
-              << mat.emission.color_a.z << "]\n";
-        f << "Shape \"trianglemesh\" \"point3 P\" [";
-        for (const Vec3f &p : m.positions) f << p.x << " " << p.y << " " << p.z << " ";
-        f << "] \"integer indices\" [";
-        for (size_t t = 0; t < m.n_triangles(); ++t)   // written with the opposite winding: N decides
-            f << m.indices[3 * t] << " " << m.indices[3 * t + 2] << " " << m.indices[3 * t + 1] << " ";
-        f << "] \"normal N\" [";
-        std::vector<Vec3f> vn(m.positions.size(), Vec3f(0.f));
-        for (size_t t = 0; t < m.n_triangles(); ++t)
-            for (int k = 0; k < 3; ++k) vn[m.indices[3 * t + size_t(k)]] += normalize(m.cross_normal(t));
-        for (const Vec3f &n : vn) f << n.x << " " << n.y << " " << n.z << " ";
-        f << "]\nAttributeEnd\n";
-    }
-    const Scene s = parse(f.str());
+    const Scene s = parse(test::pbrt_text(ref));
     EXPECT_FALSE(s.metadata["pbrt"]["mirrored_x"].get<bool>());
     ASSERT_EQ(s.meshes.size(), ref.meshes.size());
     EXPECT_NEAR(s.total_area(), ref.total_area(), 1e-4 * ref.total_area());
@@ -325,6 +303,18 @@ TEST(PbrtReader, CornellBoxTwinHasTheSameGeometryLightAndCamera) {
     int emitters = 0;
     for (const TriangleMesh &m : s.meshes) emitters += s.materials[size_t(m.material)].is_emissive();
     EXPECT_EQ(emitters, 1);
+
+    const Scene cm = parse(test::pbrt_text(ref, 100.f, /*z_up=*/true));
+    EXPECT_EQ(cm.metadata["pbrt"]["up_axis"].get<std::string>(), "+z");
+    ASSERT_EQ(cm.meshes.size(), ref.meshes.size());
+    EXPECT_NEAR(cm.total_area(), 1e4 * ref.total_area(), 1e-4 * 1e4 * ref.total_area());
+    for (size_t i = 0; i < ref.meshes.size(); ++i)
+        for (size_t t = 0; t < ref.meshes[i].n_triangles(); ++t) {
+            EXPECT_GT(dot(unit_normal(cm.meshes[i], t), unit_normal(ref.meshes[i], t)), 0.999f) << i << " " << t;
+            EXPECT_LT(length(cm.meshes[i].vertex(t, 0) - 100.f * ref.meshes[i].vertex(t, 0)), 1e-2f);
+        }
+    EXPECT_LT(length(cm.cameras[0].eye - 100.f * c.eye), 1e-3f);
+    EXPECT_LT(length(cm.cameras[0].up - ref.cameras[0].up), 1e-5f);
 }
 
 // An independent writer: assimp (Debian's assimp-utils) exports the example Cornell box OBJ as
