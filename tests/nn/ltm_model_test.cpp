@@ -20,10 +20,16 @@ struct Fixture : test::TinySceneFixture {
 };
 }  // namespace
 
+// Shapes, chunking, the fused inference path against the libtorch modules, and that the output
+// depends on its inputs (a constant decoder would pass shape checks and the chunking comparison).
 TEST(LtmModel, TinyForwardShapesAndChunking) {
     torch::manual_seed(0);
     Fixture f;
     LtmModel model(f.cfg);
+    {
+        torch::NoGradGuard g;   // non-trivial outputs: a fresh output layer may be near constant
+        for (auto &p : model->parameters()) p.add_(torch::randn_like(p) * 0.2);
+    }
     model->eval();
     const SceneGeometry g = model->scene_geometry(f.sp);
     EXPECT_EQ(g.centers.size(0), f.cfg.n_anchors());
@@ -33,6 +39,22 @@ TEST(LtmModel, TinyForwardShapesAndChunking) {
     ASSERT_EQ(e.sizes(), (std::vector<int64_t>{300, 3}));
     EXPECT_TRUE((e >= 0).all().item<bool>());
     EXPECT_TRUE(torch::allclose(model->predict_irradiance(f.qp, lat, /*chunk=*/7), e, 1e-5, 1e-6));
+    // Fused (the default on CPU) against the libtorch modules.
+    model->fused_inference = false;
+    const auto reference = model->predict_irradiance(f.qp, lat);
+    model->fused_inference = true;
+    EXPECT_TRUE(torch::allclose(e, reference, 1e-4, 1e-5)) << "max |Δ| " << (e - reference).abs().max().item<float>();
+    // Input sensitivity: the prediction varies over the queries, and moves with the albedo of the
+    // scene points (through the encoder) and with the query normal (through the decoder).
+    EXPECT_GT((e - e.mean(0)).abs().mean().item<double>(), 1e-3 * e.abs().mean().item<double>());
+    auto sp = f.sp.clone();
+    sp.slice(1, 6, 9).mul_(0.5);
+    const auto e_albedo = model->predict_irradiance(f.qp, model->encode(sp, g));
+    EXPECT_GT((e_albedo - e).abs().mean().item<double>(), 1e-3 * e.abs().mean().item<double>());
+    auto qp = f.qp.clone();
+    qp.slice(1, 3, 6).neg_();
+    const auto e_normal = model->predict_irradiance(qp, lat);
+    EXPECT_GT((e_normal - e).abs().mean().item<double>(), 1e-3 * e.abs().mean().item<double>());
 }
 
 TEST(LtmModel, WeightsRoundTripIsBitExact) {
