@@ -228,10 +228,10 @@ int64_t PTv3Impl::out_channels() const {
     return cfg.dec_channels.empty() ? cfg.enc_channels[0] : cfg.dec_channels[0];
 }
 
-Serialization PTv3Impl::maybe_shuffle(Serialization s) const {
+Serialization PTv3Impl::maybe_shuffle(Serialization s) {
     const int64_t n_orders = s.code.size(0);
     if (!is_training() || !cfg.shuffle_orders || n_orders < 2) return s;
-    return permute_orders(s, torch::randperm(n_orders, torch::kLong));
+    return permute_orders(s, torch::randperm(n_orders, rng, torch::kLong));
 }
 
 torch::Tensor PTv3Impl::forward(const torch::Tensor &feat, const torch::Tensor &coord) {
@@ -262,7 +262,7 @@ torch::Tensor PTv3Impl::forward(const torch::Tensor &feat, const torch::Tensor &
         const int64_t n_orders = level.ser.order.size(0);
         for (size_t i = 0; i < blocks.size(); ++i) {
             const int64_t r = int64_t(i) % n_orders;  // block i uses order row i % S
-            h = blocks[i]->forward(h, level.ser.order[r], level.ser.inverse[r], level.nbr);
+            h = blocks[i]->forward(h, level.ser.order[r], level.ser.inverse[r], level.nbr, rng);
         }
         return h;
     };

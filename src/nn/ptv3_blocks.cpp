@@ -10,10 +10,11 @@ namespace {
 
 // Stochastic depth per point (timm DropPath on [n, C]): keep a row with probability 1 - rate and
 // rescale by 1 / (1 - rate), so the expectation is unchanged.  x [n, C] -> [n, C]
-torch::Tensor apply_drop_path(const torch::Tensor &x, double rate, bool training) {
+// The mask is drawn on the CPU generator rng and moved to x's device.
+torch::Tensor apply_drop_path(const torch::Tensor &x, double rate, bool training, at::Generator &rng) {
     if (!training || rate <= 0.0) return x;
     const double keep = 1.0 - rate;
-    const auto mask = torch::empty({x.size(0), 1}, x.options()).bernoulli_(keep);
+    const auto mask = torch::empty({x.size(0), 1}, torch::kFloat32).bernoulli_(keep, rng).to(x.options());
     return x * mask / keep;
 }
 
@@ -39,15 +40,15 @@ PTv3BlockImpl::PTv3BlockImpl(int64_t channels, int64_t n_heads, int64_t patch_si
 }
 
 torch::Tensor PTv3BlockImpl::forward(const torch::Tensor &x_in, const torch::Tensor &order,
-                                     const torch::Tensor &inverse, const torch::Tensor &nbr) {
+                                     const torch::Tensor &inverse, const torch::Tensor &nbr, at::Generator &rng) {
     auto x = x_in;
     // The CPE residual is not pre-normed and has no drop path (PTv3 Block.forward).
     if (cpe_conv) x = x + cpe_norm->forward(cpe_linear->forward(cpe_conv->forward(x, nbr)));
     x = x + apply_drop_path(attn->forward(norm1->forward(x), order, inverse), drop_path,
-                            is_training());
+                            is_training(), rng);
     // Exact (erf) GELU, nn.GELU's default.
     const auto h = fc2->forward(torch::gelu(fc1->forward(norm2->forward(x))));
-    return x + apply_drop_path(h, drop_path, is_training());
+    return x + apply_drop_path(h, drop_path, is_training(), rng);
 }
 
 GridPooling grid_pooling(const torch::Tensor &grid) {

@@ -169,7 +169,7 @@ TrainStepLog Trainer::train_step() {
         std::vector<int64_t> pick(static_cast<size_t>(share));
         for (auto &p : pick) p = int64_t(q_rng.next_below(uint32_t(nq)));
         const auto idx = torch::tensor(pick, torch::kInt64).to(m_device);
-        torch::manual_seed(hash_keys({m_cfg.seed, 0x0dde5ull, u}) >> 1);   // PTv3 order shuffles
+        m_model->encoder->reseed(hash_keys({m_cfg.seed, 0x0dde5ull, u}) >> 1);   // PTv3 order shuffles, drop path
         // One of the 8 horizontal symmetries per scene draw (train/augment.h): targets and cached FPS/kNN stay valid.
         const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, u}) % k_n_symmetries) : 0;
         const auto scene_points = apply_symmetry(sc.scene_points, sym);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <ATen/CPUGeneratorImpl.h>
 #include <torch/torch.h>
 
 #include "ltm/core/json_util.h"
@@ -58,8 +59,9 @@ struct PTv3BlockImpl : torch::nn::Module {
 
     /// x [n, C], order / inverse [n] int64 (one serialization row), nbr [n, 27] (undefined
     /// when CPE is off)  ->  [n, C]
+    /// rng draws the drop-path masks in training (the encoder's own generator, PTv3Impl::rng).
     torch::Tensor forward(const torch::Tensor &x, const torch::Tensor &order,
-                          const torch::Tensor &inverse, const torch::Tensor &nbr);
+                          const torch::Tensor &inverse, const torch::Tensor &nbr, at::Generator &rng);
 
     SubmConv3 cpe_conv{nullptr};
     torch::nn::Linear cpe_linear{nullptr};
@@ -131,11 +133,16 @@ struct PTv3Impl : torch::nn::Module {
     std::vector<std::vector<PTv3Block>> enc_blocks, dec_blocks;  ///< [stage][block]
     std::vector<SerializedPooling> pools;      ///< pools[s - 1] enters encoder stage s
     std::vector<SerializedUnpooling> unpools;  ///< unpools[s] enters decoder stage s
+    /// The training randomness (order shuffles, drop-path masks) draws from this generator, owned
+    /// by the module — never torch's global one. Seed 0 at construction; the trainer reseeds it per
+    /// scene draw, so a step's randomness is a function of (seed, step).
+    at::Generator rng = at::detail::createCPUGenerator(0);
+    void reseed(uint64_t seed) { rng.set_current_seed(seed); }
 
 private:
     std::vector<SerializationOrder> m_orders;
-    /// Training + shuffle_orders: rows permuted by torch::randperm (notes §1.3 step 4).
-    Serialization maybe_shuffle(Serialization s) const;
+    /// Training + shuffle_orders: rows permuted by torch::randperm on rng (notes §1.3 step 4).
+    Serialization maybe_shuffle(Serialization s);
 };
 TORCH_MODULE(PTv3);
 
