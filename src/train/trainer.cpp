@@ -45,6 +45,7 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     if (c.select_by != "val_loss" && c.select_by != "val_mse_log" && c.select_by != "val_mse_vs_flat")
         LTM_THROW(o.where("select_by"), ": '", c.select_by, "' is not one of val_loss, val_mse_log, val_mse_vs_flat");
     c.ckpt_every = o.get_int("ckpt_every", c.ckpt_every);
+    c.keep_val_checkpoints = o.get_bool("keep_val_checkpoints", c.keep_val_checkpoints);
     c.log_every = o.get_int("log_every", c.log_every);
     c.seed = uint64_t(o.get_int("seed", int(c.seed)));
     o.finish();
@@ -62,6 +63,7 @@ OrderedJson TrainConfig::to_json() const {
             {"warmup_steps", warmup_steps}, {"weight_decay", json_float(weight_decay)}, {"grad_clip", json_float(grad_clip)},
             {"loss", loss}, {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
             {"val_queries", val_queries}, {"val_every", val_every}, {"augment", augment}, {"select_by", select_by}, {"ckpt_every", ckpt_every},
+            {"keep_val_checkpoints", keep_val_checkpoints},
             {"log_every", log_every}, {"seed", seed}};
 }
 
@@ -333,6 +335,7 @@ void Trainer::run(bool resume, int64_t stop_at) {
                 m_best_val = score;
                 save(best);
             }
+            if (m_cfg.keep_val_checkpoints) save(m_out + "/step-" + std::to_string(m_step) + ".ltmckpt");
         }
         if (m_step % m_cfg.ckpt_every == 0 || m_step == end) save(last);
     }

@@ -114,8 +114,10 @@ TEST(Trainer, ValidationReportsPhysicsAndTheFlatOracle) {
     const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
     TrainConfig t = small_train(2);
     t.select_by = "val_mse_vs_flat";
+    t.keep_val_checkpoints = true;
     Trainer trainer(mc, t, {dataset_dir()}, dir.path("run"));
     trainer.run(false);
+    EXPECT_TRUE(std::filesystem::exists(dir.path("run/step-2.ltmckpt")));   // the last step validates
     EXPECT_TRUE(std::isfinite(trainer.validate()));
     const OrderedJson &p = trainer.val_physics();
     for (const char *key : {"val_mse_vs_flat", "val_beats_flat", "val_level_ratio_geomean", "val_level_in_band",

@@ -48,6 +48,11 @@ struct TrainConfig {
     /// flat oracle's, eval/field_metrics.h: below 1 beats the floor).
     std::string select_by = "val_loss";
     int ckpt_every = 250;         ///< steps between last.ltmckpt writes
+    /// Also keep the weights of every validation step as step-<N>.ltmckpt (false: only last and
+    /// best). The house-wide validation is not what a camera sees (docs/results.md, session 6):
+    /// kept steps can be selected afterwards by `ltm eval` on the validation houses' views
+    /// (scripts/select-by-views.sh).
+    bool keep_val_checkpoints = false;
     int log_every = 10;           ///< steps between JSONL log lines
     uint64_t seed = 0;            ///< everything random is a function of (seed, step)
 
