@@ -50,9 +50,10 @@ double relative_error(const torch::Tensor &a, const torch::Tensor &b) {
 }  // namespace
 
 TEST(Physics, PresetsCarryTheExactNormalisations) {
-    for (const char *name : {"tiny", "cpu", "paper", "cpu_vanilla", "cpu_knn_mean"}) {
+    for (const char *name : {"tiny", "cpu", "cpu-ti", "paper", "cpu_vanilla", "cpu_knn_mean"}) {
         const ModelConfig c = ModelConfig::from_file(test::source_path(std::string("configs/model/") + name + ".json"));
         EXPECT_TRUE(c.physics.emission_scale && c.physics.length_scale && c.physics.prior_bounces == 5) << name;
+        EXPECT_EQ(c.physics.translation_invariant, std::string(name) == "cpu-ti") << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
     Json j = parse_json(ModelConfig::from_file(test::source_path("configs/model/tiny.json")).to_json().dump(), "t");

@@ -199,3 +199,27 @@ TEST(Trainer, DefaultConfigFileEqualsBuiltInDefaults) {
     j["loss"] = "log-relative-l2";
     EXPECT_EQ(TrainConfig::from_json(j, "t").loss, "log-relative-l2");
 }
+
+// Every shipped config parses (issue #14 item 9): a preset nobody reads would drift unnoticed.
+TEST(Trainer, EveryShippedConfigParses) {
+    namespace fs = std::filesystem;
+    int n = 0;
+    for (const char *dir : {"configs/model", "configs/data", "configs/train"})
+        for (const auto &e : fs::directory_iterator(test::source_path(dir))) {
+            if (e.path().extension() != ".json") continue;
+            const std::string path = e.path().string();
+            SCOPED_TRACE(path);
+            const std::string d = dir;
+            if (d == "configs/model") {
+                const ModelConfig c = ModelConfig::from_file(path);
+                // Every preset but the v0.3 one carries the exact normalisations.
+                EXPECT_EQ(c.physics.emission_scale, e.path().stem() != "cpu-v03");
+            } else if (d == "configs/data") {
+                EXPECT_GT(DataPreset::from_file(path).scene_points, 0);
+            } else {
+                EXPECT_GT(TrainConfig::from_json(parse_json_file(path), path).steps, 0);
+            }
+            ++n;
+        }
+    EXPECT_GE(n, 14);
+}
