@@ -2,7 +2,7 @@
 # select-by-views.sh RUN [BASELINE.safetensors]: choose a run's weights by what a camera sees.
 # Validation during training compares whole houses against a whole-house flat colour, which a model
 # beats easily while missing each room's level (docs/results.md, session 6). This script exports
-# every kept step (RUN/step-*.ltmckpt, from `--set keep_val_checkpoints=true`) and RUN/last.ltmckpt,
+# every kept step (RUN/step-*.ltmckpt, from `--set keep_val_checkpoints=true`; else RUN/last.ltmckpt),
 # evaluates each with `ltm eval` on the validation houses' camera views (seeds disjoint from
 # training and test; references cached in refs-val/), and prints one line per candidate, best
 # (lowest view MSE) last. Env: LTM, SEEDS (100000:100032), SIZE (64), REF_SPP (256).
@@ -16,7 +16,9 @@ REF_SPP=${REF_SPP:-256}
 out="$RUN/select"
 mkdir -p "$out"
 candidates=()
-for ck in "$RUN"/step-*.ltmckpt "$RUN/last.ltmckpt"; do
+kept=("$RUN"/step-*.ltmckpt)
+[[ -f "${kept[0]}" ]] || kept=("$RUN/last.ltmckpt")   # the last step validates, so it is kept when any is
+for ck in "${kept[@]}"; do
   [[ -f "$ck" ]] || continue
   name=$(basename "$ck" .ltmckpt)
   "$LTM" export -q "$ck" -o "$out/$name.safetensors"
