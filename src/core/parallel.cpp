@@ -2,7 +2,9 @@
 // BVH builds, which also use TBB, obey --threads too.
 #include "ltm/core/parallel.h"
 
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include <tbb/blocked_range.h>
@@ -11,20 +13,30 @@
 
 namespace ltm {
 namespace {
-std::unique_ptr<tbb::global_control> g_control;
-int g_threads = 0;
+// The limit is process-wide state: set once by the CLI (--threads), or lazily on first use by any
+// thread. The mutex serialises installing it; the atomic makes the common read lock-free.
+std::mutex g_mutex;
+std::unique_ptr<tbb::global_control> g_control;   // guarded by g_mutex
+std::atomic<int> g_threads{0};
+
+int hardware_threads() { return int(std::max(1u, std::thread::hardware_concurrency())); }
+
+void install(int n) {   // caller holds g_mutex
+    g_control = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(n));
+    g_threads.store(n);
+}
 }  // namespace
 
 void set_num_threads(int n) {
-    if (n <= 0) n = int(std::max(1u, std::thread::hardware_concurrency()));
-    g_threads = n;
-    g_control = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, size_t(n));
+    std::lock_guard<std::mutex> lock(g_mutex);
+    install(n <= 0 ? hardware_threads() : n);
 }
 
 int num_threads() {
-    if (g_threads == 0) set_num_threads(0);
-    return g_threads;
+    if (const int n = g_threads.load(); n > 0) return n;
+    std::lock_guard<std::mutex> lock(g_mutex);
+    if (g_threads.load() == 0) install(hardware_threads());
+    return g_threads.load();
 }
 
 void parallel_for(int64_t begin, int64_t end, int64_t grain,
