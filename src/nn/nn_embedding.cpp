@@ -1,6 +1,7 @@
 // nn_embedding.cpp: eqs. 5–7. LayerNorm instead of BatchNorm: batches are one scene, and
 // train/eval must behave the same.
 #include "ltm/nn/nn_embedding.h"
+
 #include "ltm/nn/point_tensor.h"
 
 namespace ltm {

@@ -1,9 +1,9 @@
 // query_decoder.cpp: pre-norm residual blocks (h += Attn(LN h); h += FFN(LN h)), softplus output
 // so z = log1p(E⁺) is never negative and the loss denominator stays positive.
 #include "ltm/nn/query_decoder.h"
-#include "ltm/nn/point_tensor.h"
 
 #include "ltm/nn/nn_embedding.h"
+#include "ltm/nn/point_tensor.h"
 
 namespace ltm {
 

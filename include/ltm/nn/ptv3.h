@@ -136,7 +136,7 @@ struct PTv3Impl : torch::nn::Module {
     /// The training randomness (order shuffles, drop-path masks) draws from this generator, owned
     /// by the module — never torch's global one. Seed 0 at construction; the trainer reseeds it per
     /// scene draw, so a step's randomness is a function of (seed, step).
-    at::Generator rng = at::detail::createCPUGenerator(0);
+    at::Generator rng = at::make_generator<at::CPUGeneratorImpl>(0);
     void reseed(uint64_t seed) { rng.set_current_seed(seed); }
 
 private:
