@@ -10,6 +10,8 @@
 #include "ltm/core/parallel.h"
 #include "ltm/core/startup.h"
 #ifdef LTM_WITH_TORCH
+#include <c10/util/Exception.h>
+
 #include "ltm/nn/torch_runtime.h"
 #endif
 
@@ -27,6 +29,17 @@ std::vector<Command> commands() {
 }
 
 namespace {
+
+// The first line of an exception's message: libtorch's c10::Error appends a multi-line C++
+// backtrace to what() (what_without_backtrace() drops it), and a user sees one line per error.
+std::string error_line(const std::exception &e) {
+    std::string msg = e.what();
+#ifdef LTM_WITH_TORCH
+    if (const auto *t = dynamic_cast<const c10::Error *>(&e)) msg = t->what_without_backtrace();
+#endif
+    const size_t nl = msg.find('\n');
+    return nl == std::string::npos ? msg : msg.substr(0, nl);
+}
 
 void add_common_options(CLI::App &sub, CommonOptions &c) {
     sub.add_option("--threads", c.threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
@@ -92,7 +105,7 @@ int run_cli(const std::vector<std::string> &args) {
         } catch (const std::exception &e) {
             // ltm::Error is bad input; anything else (std::bad_alloc, logic_error) is reported the
             // same way: one line, exit 1, and the command's atomic writers left nothing behind.
-            std::cerr << "ltm " << subs[i]->get_name() << ": error: " << e.what() << "\n";
+            std::cerr << "ltm " << subs[i]->get_name() << ": error: " << error_line(e) << "\n";
             return 1;
         }
     }

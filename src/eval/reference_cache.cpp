@@ -103,8 +103,13 @@ std::optional<CachedReference> load_cached_reference(const std::string &dir, con
             if (!std::isfinite(ch[0][i] + ch[1][i] + ch[2][i])) LTM_THROW(exr, ": non-finite pixel ", i);
         }
         return ref;
-    } catch (const std::exception &e) {
+    } catch (const Error &e) {
+        // A damaged cache entry is bad data, not a bug: render it again. Anything else (bad_alloc,
+        // a logic error) is not ours to swallow and propagates.
         log_warn("reference cache: ", e.what(), "; rendering it again");
+        return std::nullopt;
+    } catch (const nlohmann::json::exception &e) {
+        log_warn("reference cache: ", meta, ": ", e.what(), "; rendering it again");
         return std::nullopt;
     }
 }

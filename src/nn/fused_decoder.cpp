@@ -160,7 +160,7 @@ struct Scratch {
     std::vector<float> h, x, t, c, eta_t, rel_t, logit_t, weight, u_t, col, attn;
     Scratch(const Weights &w, int kappa) {
         const size_t d = size_t(w.dim), g = size_t(w.groups), k = size_t(kappa);
-        h.resize(k_tile * d), x.resize(k_tile * d), t.resize(k_tile * 4 * d), c.resize(k_tile * g);
+        h.resize(k_tile * d), x.resize(k_tile * d), t.resize(k_tile * size_t(w.ffn_dim)), c.resize(k_tile * g);
         eta_t.resize(k_tile * d * k), rel_t.resize(3 * k), logit_t.resize(g * k), weight.resize(k * g);
         u_t.resize(d * g), col.resize(2 * std::max(k, g)), attn.resize(d);
     }
@@ -291,7 +291,7 @@ __attribute__((flatten, target_clones("arch=x86-64-v3", "default")))
 #endif
 void decode_tile(const Weights &w, Scratch &s, const float *query, const float *anchors, const int64_t *idx,
                  int kappa, int rows, float *z) {
-    const int d = w.dim, g_n = w.groups, n_ffn = 4 * d;
+    const int d = w.dim, g_n = w.groups, n_ffn = w.ffn_dim;
     float *h = s.h.data(), *x = s.x.data(), *t = s.t.data();
     // 𝓗 (eq. 9): h = Linear(GELU(LN(Linear(q))))   [rows, D]
     linear(query, 9, rows, w.embed1, x, d);
@@ -353,7 +353,7 @@ FusedDecoder::FusedDecoder(const QueryDecoderImpl &dec) {
     };
     const auto lin = [&](const std::string &n) { return dense(p(n + ".weight"), p(n + ".bias")); };
     const auto ln = [&](const std::string &n) { return norm(p(n + ".weight"), p(n + ".bias")); };
-    m_w.dim = int(dec.cfg.dim), m_w.groups = int(dec.cfg.groups);
+    m_w.dim = int(dec.cfg.dim), m_w.groups = int(dec.cfg.groups), m_w.ffn_dim = int(dec.cfg.ffn_ratio * dec.cfg.dim);
     // Without absolute positions 𝓗 sees (0, 0, 0, n, albedo): the same as zero weight columns for p.
     auto embed1_w = p("embed.0.weight");
     if (!dec.cfg.absolute_position) embed1_w.slice(1, 0, 3).zero_();

@@ -30,11 +30,13 @@ ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
         c.decoder.n_neighbors = d.get_int("n_neighbors", c.decoder.n_neighbors);
         c.decoder.n_layers = d.get_int("n_layers", c.decoder.n_layers);
         c.decoder.groups = d.get_int("groups", c.decoder.groups);
+        c.decoder.ffn_ratio = d.get_int("ffn_ratio", c.decoder.ffn_ratio);
         d.finish();
         if (c.decoder.type != "attention" && c.decoder.type != "knn-mean")
             LTM_THROW(d.where("type"), ": must be \"attention\" or \"knn-mean\", got \"", c.decoder.type, "\"");
         if (c.decoder.dim < 1 || c.decoder.n_neighbors < 1 || c.decoder.n_layers < 1 || c.decoder.groups < 1)
             LTM_THROW(d.where("dim"), ": dim, n_neighbors, n_layers and groups must be >= 1");
+        if (c.decoder.ffn_ratio < 1 || c.decoder.ffn_ratio > 64) LTM_THROW(d.where("ffn_ratio"), ": must be in [1, 64]");
         if (c.decoder.dim % c.decoder.groups != 0)
             LTM_THROW(d.where("groups"), ": dim ", c.decoder.dim, " is not divisible by groups ", c.decoder.groups);
     }
@@ -78,6 +80,9 @@ OrderedJson ModelConfig::to_json() const {
     j["encoder"] = enc;
     j["decoder"] = {{"type", decoder.type}, {"dim", decoder.dim}, {"n_neighbors", decoder.n_neighbors},
                     {"n_layers", decoder.n_layers}, {"groups", decoder.groups}};
+    // Written only when not the default: weights and checkpoints from before the key keep their
+    // exact JSON (checkpoints compare it on resume).
+    if (decoder.ffn_ratio != DecoderConfig{}.ffn_ratio) j["decoder"]["ffn_ratio"] = decoder.ffn_ratio;
     if (physics.any()) {
         j["physics"] = {{"emission_scale", physics.emission_scale}, {"length_scale", physics.length_scale},
                         {"prior_bounces", physics.prior_bounces}};

@@ -153,9 +153,11 @@ Voxelization voxelize(const torch::Tensor &coord, double grid_size) {
     const auto cells = torch::floor(rel / grid_size);
     const double max_cells = cells.max().item<double>();
     // Codes use 16 bits per axis (3·16 = 48 bits), notes pitfall 3.
-    TORCH_CHECK(max_cells < 65536.0, "voxelize: scene extent ", rel.max().item<double>(),
-                " m at grid_size ", grid_size, " m spans ", max_cells + 1,
-                " voxels on one axis; PTv3 serialization needs < 2^16 (increase grid_size)");
+    // Reachable from user data (a scene whose parts lie far apart for its point density), so an
+    // ltm::Error in the user's terms, not a TORCH_CHECK.
+    if (!(max_cells < 65536.0))
+        LTM_THROW("scene too large for the encoder's grid: it spans ", max_cells + 1,
+                  " grid cells on one axis, at most 65536 (parts of the scene lie too far apart for its point density)");
     const auto grid = cells.to(torch::kLong);
     auto [uniq, point_voxel, counts] = torch::_unique2(pack_key(grid), /*sorted=*/true,
                                                        /*return_inverse=*/true,

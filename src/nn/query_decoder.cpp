@@ -56,7 +56,7 @@ QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) :
     for (int l = 0; l < cfg.n_layers; ++l) {
         attention->push_back(VectorCrossAttention(cfg.dim, latent_dim, cfg.groups));
         norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})));
-        ffn->push_back(make_mlp(cfg.dim, 4 * cfg.dim, cfg.dim));
+        ffn->push_back(make_mlp(cfg.dim, cfg.ffn_ratio * cfg.dim, cfg.dim));
         ffn_norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})));
     }
 }

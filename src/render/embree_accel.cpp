@@ -32,15 +32,22 @@ void check_memory(const Scene &scene) {
 
 EmbreeAccel::EmbreeAccel(const Scene &scene) : m_scene(scene) {
     check_memory(scene);
-    m_device = rtcNewDevice(nullptr);
+    m_device.reset(rtcNewDevice(nullptr));
     if (!m_device) LTM_THROW("EmbreeAccel: cannot create Embree device (error ", int(rtcGetDeviceError(nullptr)), ")");
-    rtcSetDeviceErrorFunction(m_device, on_embree_error, &m_error);
-    m_rtc_scene = rtcNewScene(m_device);
-    rtcSetSceneBuildQuality(m_rtc_scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetDeviceErrorFunction(m_device.get(), on_embree_error, &m_error);
+    m_rtc_scene.reset(rtcNewScene(m_device.get()));
+    throw_if_error("creating the scene");
+    if (!m_rtc_scene) LTM_THROW("EmbreeAccel: cannot create an Embree scene");
+    rtcSetSceneBuildQuality(m_rtc_scene.get(), RTC_BUILD_QUALITY_HIGH);
     throw_if_error("creating the scene");
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh &mesh = scene.meshes[m];
-        RTCGeometry geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // Embree reads indices unchecked: an index past the vertices would read out of bounds.
+        for (const uint32_t i : mesh.indices)
+            if (i >= mesh.positions.size())
+                LTM_THROW("EmbreeAccel: mesh '", mesh.name, "' has vertex index ", i, " but ", mesh.positions.size(),
+                          " vertices");
+        RTCGeometry geom = rtcNewGeometry(m_device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
         // New (Embree-owned, padded) buffers: Embree may read 16 bytes past the last vertex.
         auto *v = static_cast<float *>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                3 * sizeof(float), mesh.positions.size()));
@@ -54,18 +61,18 @@ EmbreeAccel::EmbreeAccel(const Scene &scene) : m_scene(scene) {
         std::memcpy(v, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
         std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
         rtcCommitGeometry(geom);
-        rtcAttachGeometryByID(m_rtc_scene, geom, unsigned(m));
+        rtcAttachGeometryByID(m_rtc_scene.get(), geom, unsigned(m));
         rtcReleaseGeometry(geom);
         throw_if_error("adding a mesh");
     }
-    rtcCommitScene(m_rtc_scene);
+    rtcCommitScene(m_rtc_scene.get());
     throw_if_error("building the BVH");
 }
 
-EmbreeAccel::~EmbreeAccel() {
-    if (m_rtc_scene) rtcReleaseScene(m_rtc_scene);
-    if (m_device) rtcReleaseDevice(m_device);
-}
+EmbreeAccel::~EmbreeAccel() = default;
+
+void EmbreeAccel::ReleaseDevice::operator()(RTCDevice d) const { rtcReleaseDevice(d); }
+void EmbreeAccel::ReleaseScene::operator()(RTCScene s) const { rtcReleaseScene(s); }
 
 void EmbreeAccel::throw_if_error(const char *during) const {
     if (!m_error.empty()) {
@@ -94,7 +101,7 @@ std::optional<Hit> EmbreeAccel::intersect(const Ray &ray) const {
     rh.ray = to_rtc(ray);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(m_rtc_scene, &ctx, &rh);
+    rtcIntersect1(m_rtc_scene.get(), &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     Hit h;
     h.t = rh.ray.tfar;
@@ -110,7 +117,7 @@ bool EmbreeAccel::occluded(const Ray &ray) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r = to_rtc(ray);
-    rtcOccluded1(m_rtc_scene, &ctx, &r);
+    rtcOccluded1(m_rtc_scene.get(), &ctx, &r);
     return r.tfar < 0.f;   // Embree sets tfar = -inf on a hit
 }
 

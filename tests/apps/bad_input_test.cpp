@@ -2,12 +2,14 @@
 // no output file.
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "cli.h"
 #include "ltm/core/file_util.h"
 #include "ltm/scene/builtin_scenes.h"
+#include "ltm/scene/mesh_builder.h"
 #include "ltm/scene/scene_io.h"
 #include "test_util.h"
 
@@ -137,3 +139,38 @@ TEST(BadInput, RenderRejectsBadCamerasAndSettings) {
     expect_error(dir, n, {"render", "builtin:cornell-box", "--spp", "0", "-o", dir.path("r")}, "render", "--spp 0");
     expect_error(dir, n, {"render", "builtin:cornell-box", "--method", "neural", "-o", dir.path("r")}, "render", "neural");
 }
+
+#ifdef LTM_WITH_TORCH
+// Issue #14 item 8: errors from the torch commands are one line too. A Cornell box with a small
+// quad 10^6 m away spans more cells of the encoder's grid than its 16-bit codes hold; the neural
+// renderer must say so in one line (it was a TORCH_CHECK with libtorch's backtrace).
+TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
+    test::TempDir dir;
+    Scene s = cornell_box();
+    TriangleMesh far;
+    far.name = "far-quad";
+    far.material = s.meshes[0].material;
+    add_quad(far, {1e6f, 0.f, 0.f}, {1e6f + 0.5f, 0.f, 0.f}, {1e6f + 0.5f, 0.5f, 0.f}, {1e6f, 0.5f, 0.f});
+    s.meshes.push_back(far);
+    save_scene_json(s, dir.path("far.json"));
+    const size_t n = dir.count();
+    const Result r = run({"render", dir.path("far.json"), "--method", "neural", "--model",
+                          test::source_path("models/ltm-cpu.safetensors"), "--width", "16", "--height", "16", "-o",
+                          dir.path("r")});
+    EXPECT_EQ(r.code, 1) << r.err;
+    // The out-of-range warning may precede it (warnings print even with --quiet); then exactly one
+    // error line, and nothing of a backtrace.
+    std::istringstream lines(r.err);
+    int errors = 0;
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("ltm render: error: ", 0) == 0) {
+            ++errors;
+            EXPECT_NE(line.find("too large for the encoder's grid"), std::string::npos) << line;
+        } else {
+            EXPECT_EQ(line.rfind("[warning] ", 0), 0u) << "unexpected line: " << line;
+        }
+    }
+    EXPECT_EQ(errors, 1) << r.err;
+    EXPECT_EQ(dir.count(), n) << "no partial output";
+}
+#endif

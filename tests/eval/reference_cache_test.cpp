@@ -72,6 +72,11 @@ TEST(ReferenceCache, StoreThenLoadIsExactAndBadFilesAreMisses) {
     EXPECT_FALSE(load_cached_reference(dir.path(), "0123456789abcdef", 5, 4)) << "another size";
     std::ofstream(dir.path("0123456789abcdef.exr"), std::ios::trunc) << "not an exr";
     EXPECT_FALSE(load_cached_reference(dir.path(), "0123456789abcdef", 5, 3)) << "corrupt image";
+    store_cached_reference(dir.path(), "0123456789abcdef", ref, {{"scene", "x"}});
+    std::ofstream(dir.path("0123456789abcdef.json"), std::ios::trunc) << "{\"scene\": \"x\"}";
+    EXPECT_FALSE(load_cached_reference(dir.path(), "0123456789abcdef", 5, 3)) << "metadata without seconds";
+    std::ofstream(dir.path("0123456789abcdef.json"), std::ios::trunc) << "{\"seconds\": ";
+    EXPECT_FALSE(load_cached_reference(dir.path(), "0123456789abcdef", 5, 3)) << "truncated metadata";
 }
 
 // Two evaluations with the same cache: the second reads the reference from disk. To prove it is

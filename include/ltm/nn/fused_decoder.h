@@ -48,7 +48,7 @@ public:
     };
     /// Everything decode needs, as plain arrays.
     struct Weights {
-        int dim = 0, groups = 0;
+        int dim = 0, groups = 0, ffn_dim = 0;   ///< ffn_dim = ffn_ratio · dim
         int64_t n_latents = -1;                     ///< -1 until prepare()
         Dense embed1, embed2, pos1, pos2, out1, out2;   ///< pos1/pos2: γ's Linear layers
         Norm embed_ln, out_ln;

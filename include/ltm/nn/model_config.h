@@ -27,6 +27,7 @@ struct DecoderConfig {
     int n_neighbors = 32;            ///< κ nearest anchors per query (paper Tab. 2: 32)
     int n_layers = 2;                ///< stacked cross-attention blocks ("iteratively aggregate")
     int groups = 8;                  ///< G weight groups of grouped vector attention (PTv2)
+    int ffn_ratio = 4;               ///< hidden width of each block's FFN = ffn_ratio · dim (transformer convention)
     /// Feed the query's absolute position to 𝓗 (eq. 9); positions still enter as Δp (eq. 10). Not
     /// a JSON key: LtmModel sets it from PhysicsConfig::translation_invariant.
     bool absolute_position = true;

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include <atomic>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -35,10 +36,18 @@ public:
 
 private:
     void throw_if_error(const char *during) const;
+    struct ReleaseDevice {
+        void operator()(RTCDevice d) const;
+    };
+    struct ReleaseScene {
+        void operator()(RTCScene s) const;
+    };
     const Scene &m_scene;
-    RTCDevice m_device = nullptr;
-    RTCScene m_rtc_scene = nullptr;
-    mutable std::string m_error;   // set by the device error callback
+    mutable std::string m_error;   // set by the device error callback; outlives the handles below
+    // Owned handles: a constructor that throws half-way releases what it made (members are
+    // destroyed in reverse order, the scene before its device).
+    std::unique_ptr<RTCDeviceTy, ReleaseDevice> m_device;
+    std::unique_ptr<RTCSceneTy, ReleaseScene> m_rtc_scene;
     mutable std::atomic<uint64_t> m_rays{0};
 };
 
