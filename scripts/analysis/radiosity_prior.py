@@ -36,7 +36,7 @@ def main():
     nmax = int(sys.argv[2]) if len(sys.argv) > 2 else 32
     D = int(sys.argv[3]) if len(sys.argv) > 3 else 5
     files = sorted(f for f in os.listdir(d) if f.endswith('.safetensors'))[:nmax]
-    rows = {k: [] for k in ('global', 'rad', 'rad-pb', 'mix')}
+    rows = {k: [] for k in ('global', 'rad', 'rad-pb', 'mix', 'norm', 'norm-pb')}
     for f in files:
         r = read_safetensors(os.path.join(d, f))
         sp = r['scene_points'].astype(np.float64)
@@ -64,8 +64,18 @@ def main():
         # rescale rad's shape to the power balance level: area mean of rad at the scene points.
         rad_sp = G @ tot
         radpb = rad * (g / np.maximum(rad_sp.mean(0), 1e-30))
+        # Row-normalised transport: visibility-free form factors over-count (they see through
+        # walls); in a closed scene the true ones sum to 1 per receiver, so each row is scaled to 1.
+        Gn = G / np.maximum(G.sum(1, keepdims=True), 1e-30)
+        L, totn = Le * np.pi, np.zeros_like(Le)      # exitance pi*L; B_{k+1} = rho * Gn B_k
+        for _ in range(D):
+            L = rho * (Gn @ L)
+            totn += L
+        Gqn = Gq / np.maximum(Gq.sum(1, keepdims=True), 1e-30)
+        nrm = Gqn @ totn
+        nrm_pb = nrm * (g / np.maximum((Gn @ totn).mean(0), 1e-30))
         flat = ((E - E.mean(0)) ** 2).mean()
-        fields = {'global': np.broadcast_to(g, E.shape), 'rad': rad, 'rad-pb': radpb, 'mix': 0.5 * (radpb + g)}
+        fields = {'global': np.broadcast_to(g, E.shape), 'rad': rad, 'rad-pb': radpb, 'mix': 0.5 * (radpb + g), 'norm': nrm, 'norm-pb': nrm_pb}
         line = []
         for k, v in fields.items():
             rows[k].append((((v - E) ** 2).mean() / flat, v.mean() / E.mean()))
