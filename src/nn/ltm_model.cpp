@@ -29,6 +29,39 @@ torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces) {
     return sum;
 }
 
+namespace {
+std::vector<Vec3f> rows_of(const torch::Tensor &t) {   // [n, 3] -> n Vec3f
+    const auto c = t.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    std::vector<Vec3f> out(size_t(c.size(0)));
+    const float *p = c.data_ptr<float>();
+    for (size_t i = 0; i < out.size(); ++i) out[i] = Vec3f(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    return out;
+}
+
+// The transport prior among the FPS anchors (points/transport_prior.h), in the normalised frame.
+// Each anchor stands for M/m scene points; a scene point for π (3ℓ/2)² / k of area — the k group
+// members of an FPS centre lie within ~3ℓ/2 (mean distance 2/3 of a disc's radius), and ℓ = 1 in
+// this frame. Emitters are few (20–130 of 8 192 points), so the anchors' emission is rescaled per
+// channel to π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp
+// that FPS missed) uses every scene point as a node instead.
+std::shared_ptr<const TransportPrior> solve_anchor_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
+                                                             const SceneNormalization &n, int bounces) {
+    torch::NoGradGuard no_grad;
+    const int64_t m_all = sp.size(0), k = geometry.groups.size(1);
+    auto nodes = sp.index_select(0, geometry.centers);
+    auto e_mean = nodes.slice(1, 9, 12).mean(0);
+    if (((e_mean <= 0) & (n.emission > 0)).any().item<bool>()) {
+        nodes = sp;
+        e_mean = sp.slice(1, 9, 12).mean(0);
+    }
+    const auto gain = torch::where(e_mean > 0, n.emission / (k_pi * e_mean.clamp_min(1e-30)), torch::zeros_like(e_mean));
+    const double area = k_pi * 2.25 / double(k) * double(m_all) / double(nodes.size(0));
+    return std::make_shared<const TransportPrior>(solve_transport_prior(
+        rows_of((nodes.slice(1, 0, 3) - n.center) / n.length), rows_of(nodes.slice(1, 3, 6)),
+        rows_of(nodes.slice(1, 6, 9)), rows_of(nodes.slice(1, 9, 12) * gain), float(area), bounces));
+}
+}  // namespace
+
 SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics,
                                        const torch::Tensor &emission_scale) {
     TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
@@ -65,6 +98,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
         // No emission among the scene points: S = 0, so E⁺ = 0 (no light, no indirect light).
         n.output = n.emission;
         if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(sp.slice(1, 6, 9).mean(0), physics.prior_bounces);
+        if (physics.prior_field == "transport") n.transport = solve_anchor_transport(sp, geometry, n, physics.prior_bounces);
     }
     return n;
 }
@@ -141,7 +175,7 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     for (int64_t s = 0; s < query_points.size(0); s += chunk) {
         const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
         if (!fused) {
-            parts.push_back(irradiance_from_z(decode(qp, latents), latents));
+            parts.push_back(irradiance_from_z(decode(qp, latents), output_scale(qp, latents.norm)));
             continue;
         }
         const auto q = normalize_query_points(qp, latents.norm);
@@ -151,7 +185,7 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
         local.knn += since(t);
         t = clock::now();
-        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), latents));
+        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), output_scale(qp, latents.norm)));
     }
     auto out = parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
     local.decode += since(t);
@@ -165,13 +199,20 @@ int64_t LtmModelImpl::n_parameters() const {
     return n;
 }
 
-torch::Tensor irradiance_from_z(const torch::Tensor &z, const SceneLatents &latents) {
-    return latents.norm.output * torch::expm1(z);
+torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormalization &norm) {
+    if (!norm.transport) return norm.output;
+    torch::NoGradGuard no_grad;
+    const auto q = normalize_query_points(query_points, norm).to(torch::kCPU, torch::kFloat32).contiguous();
+    auto out = torch::empty({q.size(0), 3}, torch::kFloat32);
+    const float *p = q.data_ptr<float>();
+    gather_transport_prior(*norm.transport, p, p + 3, 9, size_t(q.size(0)), out.data_ptr<float>());
+    return torch::maximum(out.to(norm.output.device()), 1e-3 * norm.output);
 }
 
-torch::Tensor normalized_target(const torch::Tensor &target, const SceneLatents &latents) {
-    const auto &s = latents.norm.output;
-    return torch::where(s > 0, target / s.clamp_min(1e-30), torch::zeros_like(target));
+torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }
+
+torch::Tensor normalized_target(const torch::Tensor &target, const torch::Tensor &scale) {
+    return torch::where(scale > 0, target / scale.clamp_min(1e-30), torch::zeros_like(target));
 }
 
 torch::Tensor relative_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, double eps) {

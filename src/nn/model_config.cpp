@@ -54,7 +54,12 @@ ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
         c.physics.length_scale = ph.get_bool("length_scale", c.physics.length_scale);
         c.physics.prior_bounces = ph.get_int("prior_bounces", c.physics.prior_bounces);
         c.physics.translation_invariant = ph.get_bool("translation_invariant", c.physics.translation_invariant);
+        c.physics.prior_field = ph.get_string("prior_field", c.physics.prior_field);
         ph.finish();
+        if (c.physics.prior_field != "flat" && c.physics.prior_field != "transport")
+            LTM_THROW(ph.where("prior_field"), ": must be \"flat\" or \"transport\", got \"", c.physics.prior_field, "\"");
+        if (c.physics.prior_field == "transport" && (c.physics.prior_bounces < 1 || !c.physics.length_scale))
+            LTM_THROW(ph.where("prior_field"), ": \"transport\" needs prior_bounces >= 1 and length_scale");
         if (c.physics.prior_bounces < 0 || c.physics.prior_bounces > 64)
             LTM_THROW(ph.where("prior_bounces"), ": must be in [0, 64]");
         if (c.physics.prior_bounces > 0 && !c.physics.emission_scale)
@@ -89,6 +94,7 @@ OrderedJson ModelConfig::to_json() const {
         // Written only when on: configs and weights from before the key keep their exact JSON
         // (checkpoints compare it on resume).
         if (physics.translation_invariant) j["physics"]["translation_invariant"] = true;
+        if (physics.prior_field != "flat") j["physics"]["prior_field"] = physics.prior_field;
     }
     return j;
 }

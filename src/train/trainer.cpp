@@ -179,7 +179,7 @@ TrainStepLog Trainer::train_step() {
         const SceneLatents lat = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
         const auto z = m_model->decode(queries, lat);
         // The step's loss is the mean of the scenes' losses; gradients accumulate scene by scene.
-        const auto l = loss(z, sc.target.index_select(0, idx), lat) / double(K);
+        const auto l = loss(z, sc.target.index_select(0, idx), output_scale(queries, lat.norm)) / double(K);
         const double v = l.item<double>();
         if (!std::isfinite(v)) log.skipped = true;
         else l.backward(), log.loss += v;
@@ -197,8 +197,8 @@ TrainStepLog Trainer::train_step() {
     return log;
 }
 
-torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target, const SceneLatents &latents) const {
-    const auto y = normalized_target(target, latents);
+torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target, const torch::Tensor &scale) const {
+    const auto y = normalized_target(target, scale);
     if (m_cfg.loss == "log-relative-l2") return relative_l2_log_loss(z, y, m_cfg.loss_eps);
     return relative_l2_loss(torch::expm1(z), y, m_cfg.loss_eps);
 }
@@ -248,10 +248,12 @@ double Trainer::validate() {
         const auto rows = spread_rows(sc.query_points.size(0), m_cfg.val_queries, m_device);
         const int64_t nq = rows.size(0);
         const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale);
-        const auto z = m_model->decode(sc.query_points.index_select(0, rows), lat);
+        const auto queries = sc.query_points.index_select(0, rows);
+        const auto z = m_model->decode(queries, lat);
         const auto target = sc.target.index_select(0, rows);
-        const auto pred = irradiance_from_z(z, lat);
-        sum += loss(z, target, lat).item<double>();
+        const auto scale = output_scale(queries, lat.norm);
+        const auto pred = irradiance_from_z(z, scale);
+        sum += loss(z, target, scale).item<double>();
         // Plain MSE of log1p(E⁺): not dominated by a few dark points the way a relative loss is.
         sum_mse += (torch::log1p(pred) - torch::log1p(target)).pow(2).mean().item<double>();
         const auto p = cpu_floats(pred), r = cpu_floats(target);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include <torch/torch.h>
 
@@ -11,6 +12,7 @@
 #include "ltm/nn/nn_embedding.h"
 #include "ltm/nn/ptv3.h"
 #include "ltm/nn/query_decoder.h"
+#include "ltm/points/transport_prior.h"
 
 namespace ltm {
 
@@ -29,6 +31,10 @@ struct SceneNormalization {
     torch::Tensor length;     ///< [] ℓ: positions are divided by it (1 when length_scale is off)
     torch::Tensor emission;   ///< [3] S_c: emission is divided by it (1 when emission_scale is off; 0 for a dark channel)
     torch::Tensor output;     ///< [3] E⁺ = output · expm1(z) (S_c · Σ_{k=1..D} ρ̄_c^k with the prior; 1 when off)
+    /// physics.prior_field == "transport": the solved prior among the anchors, in the normalised
+    /// frame (node area in units of ℓ²; emission rescaled so that π · mean node radiance = S_c);
+    /// E⁺ = prior(query) · expm1(z) instead of output · expm1(z). Null for the "flat" prior.
+    std::shared_ptr<const TransportPrior> transport;
 };
 
 /// What the encoder leaves for the decoder.
@@ -72,7 +78,7 @@ struct LtmModelImpl : torch::nn::Module {
     //   the same with precomputed anchor neighbours idx [N, κ]
     torch::Tensor decode_with_neighbors(const torch::Tensor &query_points, const SceneLatents &latents,
                                         const torch::Tensor &idx);
-    /// Inference in chunks (no autograd): E⁺ = norm.output · expm1(z).  query [N, 9] -> [N, 3].
+    /// Inference in chunks (no autograd): E⁺ = output_scale · expm1(z).  query [N, 9] -> [N, 3].
     /// On CPU the "attention" decoder runs as a FusedDecoder, built from the current weights at every
     /// call (a few ms, so it never sees stale weights) unless fused_inference is false. The fused
     /// kernel tiles internally, so large chunks cost nothing and avoid per-chunk thread start-up;
@@ -89,11 +95,15 @@ struct LtmModelImpl : torch::nn::Module {
 };
 TORCH_MODULE(LtmModel);
 
-/// E⁺ from the decoder's output: output · expm1(z).   z [N, 3], latents -> [N, 3]
-torch::Tensor irradiance_from_z(const torch::Tensor &z, const SceneLatents &latents);
-/// Targets in the decoder's output frame: y / output (0 where a channel's output scale is 0).
-///   target [N, 3] -> [N, 3]
-torch::Tensor normalized_target(const torch::Tensor &target, const SceneLatents &latents);
+/// What the decoder's output is relative to: norm.output [3] for the "flat" prior; for the
+/// "transport" prior its value at each query, floored at 10⁻³ · norm.output (a query that faces
+/// no anchor keeps a finite frame).   query_points [N, 9] raw -> [3] or [N, 3]
+torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormalization &norm);
+/// E⁺ from the decoder's output: scale · expm1(z).   z [N, 3], scale [3] or [N, 3] -> [N, 3]
+torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale);
+/// Targets in the decoder's output frame: y / scale (0 where the scale is 0).
+///   target [N, 3], scale [3] or [N, 3] -> [N, 3]
+torch::Tensor normalized_target(const torch::Tensor &target, const torch::Tensor &scale);
 
 /// Relative L2 in log space (paper §5, v0.3's loss): mean(((z − log1p(y)) / (stopgrad(z) + ε))²).
 /// Its minimiser is not the mean of noisy targets (log of a noisy mean is biased).

@@ -54,8 +54,13 @@ struct PhysicsConfig {
     /// positions relative to the bounding-box centre reach 𝓕 and 𝓗, a shortcut by which a network
     /// can fit a field per position (the dataset's average house) instead of reading the scene.
     bool translation_invariant = false;
+    /// Where the prior's level lives: "flat" (one power-balance level per scene, above) or
+    /// "transport" (points/transport_prior.h: a visibility-free radiosity solve among the anchors,
+    /// gathered at every query point, D = prior_bounces — one level per point, exact in the
+    /// furnace). Needs prior_bounces > 0 and length_scale (node areas are in units of ℓ).
+    std::string prior_field = "flat";
 
-    static PhysicsConfig legacy() { return {false, false, 0, false}; }
+    static PhysicsConfig legacy() { return {false, false, 0, false, "flat"}; }
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }
 };
 

@@ -102,7 +102,8 @@ private:
     CachedScene &scene(size_t index);
     TrainStepLog train_step();
     /// The configured loss in the model's output frame.   z [N, 3], target E⁺ [N, 3] -> scalar
-    torch::Tensor loss(const torch::Tensor &z, const torch::Tensor &target, const SceneLatents &latents) const;
+    ///   z [N, 3], target [N, 3], scale [3] or [N, 3] (output_scale of the queries) -> scalar
+    torch::Tensor loss(const torch::Tensor &z, const torch::Tensor &target, const torch::Tensor &scale) const;
     /// Emission ×4 and lengths ×10 on one held-out scene: the exact invariances, measured.
     OrderedJson invariance_errors(CachedScene &sc, int64_t n_queries);
     ModelConfig m_model_cfg;
