@@ -13,6 +13,7 @@
 #include "ltm/eval/reference_cache.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/points/power_balance.h"
+#include "ltm/points/transport_prior.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/scene_points.h"
 
@@ -106,6 +107,12 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
         const auto prior = power_balance_irradiance(sampled.points, PathTracerConfig{}.max_depth, &sampled.emission_scale);
         const double prior_seconds = std::chrono::duration<double>(Clock::now() - t_prior).count();
+        // The visibility-free radiosity prior (points/transport_prior.h) with every scene point a
+        // node and D = 8, as configs/model/cpu-tp.json: its level per point, no network.
+        const auto t_transport = Clock::now();
+        const TransportPrior transport = solve_transport_prior(
+            sampled.points, float(es.scene.total_area() / double(sampled.points.size())), 8, &sampled.emission_scale);
+        const double transport_seconds = std::chrono::duration<double>(Clock::now() - t_transport).count();
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
         for (int v = 0; v < opt.views; ++v) {
@@ -164,6 +171,12 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             // The closed-form power-balance level from the scene points alone (points/power_balance.h):
             // what the model's prior gives before the network adds anything.
             add("flat-prior", flat(prior), prior_seconds, 0);
+            {
+                static_assert(sizeof(Vec3f) == 3 * sizeof(float), "Vec3f rows are read as float triples");
+                std::vector<Vec3f> e(gb.n_hits());
+                gather_transport_prior(transport, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
+                add("transport-prior", scatter_to_image(gb, e), transport_seconds, 0);
+            }
             if (!opt.out_dir.empty()) {
                 // albedo | reference | model | PT 64 | PT equal time | |model − reference|
                 const float scale = tonemap_scale(ref);

@@ -20,21 +20,43 @@ struct Soa {
     }
 };
 
+// Σ_j a_j·b_j with 8 partial sums: vectorises without -ffast-math, and the order is fixed, so the
+// result is the same at any thread count.
+inline float dot8(const float *__restrict a, const float *__restrict b, size_t m) {
+    float acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    size_t j = 0;
+    for (; j + 8 <= m; j += 8)
+        for (size_t l = 0; l < 8; ++l) acc[l] += a[j + l] * b[j + l];
+    float s = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+    for (; j < m; ++j) s += a[j] * b[j];
+    return s;
+}
+
+inline float sum8(const float *__restrict a, size_t m) {
+    float acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    size_t j = 0;
+    for (; j + 8 <= m; j += 8)
+        for (size_t l = 0; l < 8; ++l) acc[l] += a[j + l];
+    float s = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+    for (; j < m; ++j) s += a[j];
+    return s;
+}
+
 // Ĝ's unnormalised row for a receiver (p, n): G_j without the area factor a (it cancels in the
 // row normalisation), see the header. The receiver's own node (r = 0) gets 0 from the cosines.
-// Returns the row sum; row[j] receives the terms. Fixed order: deterministic.
+// Returns the row sum; row[j] receives the terms.
 inline float transfer_row(const Soa &s, size_t m, Vec3f p, Vec3f n, float reg, float *__restrict row) {
-    float sum = 0.f;
+    const float *__restrict px = s.px.data(), *__restrict py = s.py.data(), *__restrict pz = s.pz.data();
+    const float *__restrict nx = s.nx.data(), *__restrict ny = s.ny.data(), *__restrict nz = s.nz.data();
     for (size_t j = 0; j < m; ++j) {
-        const float dx = s.px[j] - p.x, dy = s.py[j] - p.y, dz = s.pz[j] - p.z;
+        const float dx = px[j] - p.x, dy = py[j] - p.y, dz = pz[j] - p.z;
         const float r2 = dx * dx + dy * dy + dz * dz;
         const float cr = n.x * dx + n.y * dy + n.z * dz;               // cosines times r
-        const float cs = -(s.nx[j] * dx + s.ny[j] * dy + s.nz[j] * dz);
-        const float t = (cr > 0.f && cs > 0.f) ? cr * cs / (r2 * (r2 + reg)) : 0.f;
-        row[j] = t;
-        sum += t;
+        const float cs = -(nx[j] * dx + ny[j] * dy + nz[j] * dz);
+        const float t = cr * cs / (r2 * (r2 + reg) + 1e-30f);
+        row[j] = (cr > 0.f && cs > 0.f) ? t : 0.f;
     }
-    return sum;
+    return sum8(row, m);
 }
 }  // namespace
 
@@ -74,12 +96,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         parallel_for(0, int64_t(m), 64, [&](int64_t lo, int64_t hi) {
             for (int64_t i = lo; i < hi; ++i) {
                 const float *row = g.data() + size_t(i) * m;
-                for (int c = 0; c < 3; ++c) {
-                    const float *bc = b[c].data();
-                    float s = 0.f;
-                    for (size_t j = 0; j < m; ++j) s += row[j] * bc[j];
-                    next[c][size_t(i)] = albedo[size_t(i)][c] * s;
-                }
+                for (int c = 0; c < 3; ++c) next[c][size_t(i)] = albedo[size_t(i)][c] * dot8(row, b[c].data(), m);
             }
         });
         for (int c = 0; c < 3; ++c) {
@@ -88,6 +105,24 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         }
     }
     return out;
+}
+
+TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bounces, const Vec3f *emission_scale) {
+    if (sp.columns != scene_point_columns()) LTM_THROW("transport prior: not a scene point table");
+    const size_t m = sp.size();
+    std::vector<Vec3f> p(m), n(m), rho(m), le(m);
+    Vec3f mean(0.f);
+    for (size_t i = 0; i < m; ++i) {
+        p[i] = Vec3f(sp.at(i, 0), sp.at(i, 1), sp.at(i, 2)), n[i] = Vec3f(sp.at(i, 3), sp.at(i, 4), sp.at(i, 5));
+        rho[i] = Vec3f(sp.at(i, 6), sp.at(i, 7), sp.at(i, 8)), le[i] = Vec3f(sp.at(i, 9), sp.at(i, 10), sp.at(i, 11));
+        mean += le[i] / float(m > 0 ? m : 1);
+    }
+    if (emission_scale) {
+        Vec3f gain(0.f);
+        for (int c = 0; c < 3; ++c) gain[c] = mean[c] > 0.f ? (*emission_scale)[c] / (float(k_pi) * mean[c]) : 0.f;
+        for (auto &l : le) l = l * gain;
+    }
+    return solve_transport_prior(p, n, rho, le, node_area, bounces);
 }
 
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
@@ -105,11 +140,7 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
             const float *pp = position + size_t(q) * stride, *pn = normal + size_t(q) * stride;
             const float w = transfer_row(soa, m, Vec3f(pp[0], pp[1], pp[2]), Vec3f(pn[0], pn[1], pn[2]), reg, row.data());
             float *o = out + size_t(q) * 3;
-            for (int c = 0; c < 3; ++c) {
-                float s = 0.f;
-                for (size_t j = 0; j < m; ++j) s += row[j] * ex[c][j];
-                o[c] = w > 0.f ? s / w : 0.f;
-            }
+            for (int c = 0; c < 3; ++c) o[c] = w > 0.f ? dot8(row.data(), ex[c].data(), m) / w : 0.f;
         }
     });
 }

@@ -50,10 +50,13 @@ double relative_error(const torch::Tensor &a, const torch::Tensor &b) {
 }  // namespace
 
 TEST(Physics, PresetsCarryTheExactNormalisations) {
-    for (const char *name : {"tiny", "cpu", "cpu-ti", "paper", "cpu_vanilla", "cpu_knn_mean"}) {
+    for (const char *name : {"tiny", "cpu", "cpu-ti", "cpu-tp", "paper", "cpu_vanilla", "cpu_knn_mean"}) {
         const ModelConfig c = ModelConfig::from_file(test::source_path(std::string("configs/model/") + name + ".json"));
-        EXPECT_TRUE(c.physics.emission_scale && c.physics.length_scale && c.physics.prior_bounces == 5) << name;
-        EXPECT_EQ(c.physics.translation_invariant, std::string(name) == "cpu-ti") << name;
+        const bool tp = std::string(name) == "cpu-tp";
+        EXPECT_TRUE(c.physics.emission_scale && c.physics.length_scale && c.physics.prior_bounces == (tp ? 8 : 5)) << name;
+        EXPECT_EQ(c.physics.translation_invariant, std::string(name) == "cpu-ti" || tp) << name;
+        EXPECT_EQ(c.physics.prior_field, tp ? "transport" : "flat") << name;
+        EXPECT_EQ(c.to_json()["physics"].contains("prior_field"), tp) << "written only when not flat: " << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
     Json j = parse_json(ModelConfig::from_file(test::source_path("configs/model/tiny.json")).to_json().dump(), "t");
@@ -65,6 +68,10 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
     j["physics"] = {{"typo", 1}};
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
+    j["physics"] = {{"prior_field", "local"}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
+    j["physics"] = {{"prior_field", "transport"}, {"length_scale", false}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "transport needs node areas in units of ℓ";
 }
 
 TEST(Physics, EmissionLinearityIsExactAndLegacyIsNot) {
@@ -168,6 +175,40 @@ TEST(Physics, DarkChannelsStayDarkAndExtremeRadianceIsFinite) {
         EXPECT_TRUE(torch::isfinite(ek).all().item<bool>()) << k;
         EXPECT_LT(relative_error(ek, base * k), 1e-5) << k;
     }
+}
+
+// physics.prior_field = "transport": the prior is a pure function of the scene points, so the
+// model keeps its exact symmetries (emission ×2^k and unit ×2^k bit for bit), and in a furnace box
+// (uniform albedo ρ and emission on every wall) its output scale is the closed form
+// S · Σ_{k=1..D} ρ^k at every query, whatever FPS picked — the check the flat-prior fine-tunes failed
+// with a network on top (docs/results.md).
+TEST(Physics, TransportPriorKeepsTheSymmetriesAndMatchesTheFurnace) {
+    Fixture f;
+    f.cfg.physics.prior_field = "transport";
+    LtmModel m = make_model(f.cfg, 6);
+    const auto e = predict(m, f.sp, f.qp);
+    ASSERT_GT(e.abs().mean().item<double>(), 0.0);
+    EXPECT_TRUE(torch::isfinite(e).all().item<bool>());
+    for (double k : {0.25, 4.0}) EXPECT_TRUE(torch::equal(predict(m, scaled(f.sp, 9, 12, k), f.qp), e * k)) << k;
+    for (double s : {0.5, 1024.0}) EXPECT_TRUE(torch::equal(predict(m, scaled(f.sp, 0, 3, s), scaled(f.qp, 0, 3, s)), e)) << s;
+    // Another scale than the flat prior's: it varies over the room.
+    const SceneLatents lat = m->encode(f.sp, m->scene_geometry(f.sp));
+    const auto scale = output_scale(f.qp, lat.norm);
+    ASSERT_EQ(scale.dim(), 2);
+    ASSERT_EQ(scale.size(0), f.qp.size(0));
+    ASSERT_EQ(scale.size(1), 3);
+    EXPECT_GT((scale.select(1, 0).max() / scale.select(1, 0).min()).item<double>(), 1.5);
+
+    const float rho = 0.5f, le = 1.f;
+    const Scene furnace = furnace_box(rho, le);
+    const auto fsp = point_tensor(to_scene_points(sample_surface(furnace, f.cfg.scene_points, 2, SampleStream::scene_points)));
+    const auto fqp = point_tensor(to_query_points(sample_surface(furnace, 64, 3, SampleStream::query_points)));
+    const SceneLatents fl = m->encode(fsp, m->scene_geometry(fsp));
+    double series = 0, term = 1;
+    for (int k = 0; k < f.cfg.physics.prior_bounces; ++k) series += (term *= rho);
+    const auto fs = output_scale(fqp, fl.norm);
+    const auto expect = fl.norm.emission * series;   // S · Σ ρ^k (S = π · mean emission of the points)
+    EXPECT_LT((fs - expect).abs().max().item<double>(), 1e-3 * expect.max().item<double>()) << fs.slice(0, 0, 4);
 }
 
 TEST(Physics, NormalisationMatchesItsDefinition) {

@@ -33,7 +33,7 @@ struct DecoderConfig {
     bool absolute_position = true;
 };
 
-/// Exact physical normalisations (docs/model.md, "Physics by construction"). Light transport is
+/// Exact physical normalisations (docs/config.md, the `physics.*` keys). Light transport is
 /// linear in emission and irradiance from fixed radiance does not depend on the unit of length, so
 /// the network only ever sees a scene with its emission and lengths divided out, and its output is
 /// multiplied back. A config without a "physics" object is a v0.3 model: legacy(), all off.

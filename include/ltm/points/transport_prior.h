@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "ltm/core/math.h"
+#include "ltm/points/point_set.h"
 
 namespace ltm {
 
@@ -39,6 +40,12 @@ struct TransportPrior {
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
                                      float node_area, int bounces);
+
+/// Every scene point a node: scene_points [M, 12] (scene_point_columns()), node_area = A / M. With
+/// `emission_scale` (S_c = Φ_c/A, exact from the meshes) the points' radiance is rescaled per
+/// channel so that π · mean = S_c (emitters are few points; their count is noisy).
+TransportPrior solve_transport_prior(const PointSet &scene_points, float node_area, int bounces,
+                                     const Vec3f *emission_scale = nullptr);
 
 /// E⁺ at n receivers: position and normal as float arrays [n, 3] (any stride ≥ 3 floats between
 /// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m), deterministic.
