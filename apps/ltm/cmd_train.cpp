@@ -14,6 +14,7 @@ namespace {
 struct TrainArgs {
     std::string model, out, config, init, device = "cpu";
     std::vector<std::string> data, val_data, overrides;
+    bool start_at_prior = false;
     bool resume = false;
     int steps = -1;
 };
@@ -35,6 +36,9 @@ Command make_train_command() {
         sub.add_option("--steps", a->steps, "Shorthand for --set steps=N");
         sub.add_flag("--resume", a->resume, "Continue the run in --out from last.ltmckpt");
         sub.add_option("--init", a->init, "Start from these weights (.safetensors; fresh optimizer), e.g. to fine-tune");
+        sub.add_flag("--start-at-prior", a->start_at_prior,
+                     "Zero the decoder's output layer after --init (or at a fresh start): the model starts as its prior "
+                     "(E⁺ = output scale, e.g. physics.prior_field \"transport\") and learns the correction");
         sub.add_option("--device", a->device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
     };
     c.run = [a](const CommonOptions &common) {
@@ -53,6 +57,11 @@ Command make_train_command() {
             if (a->resume) LTM_THROW("--init and --resume exclude each other (a resumed run has its own weights)");
             trainer.init_weights(a->init);
             log_info("initialised from ", a->init);
+        }
+        if (a->start_at_prior) {
+            if (a->resume) LTM_THROW("--start-at-prior and --resume exclude each other (a resumed run has its own weights)");
+            trainer.model()->decoder->start_at_prior();
+            log_info("decoder output zeroed: the model starts as its prior");
         }
         trainer.run(a->resume);
     };

@@ -36,6 +36,14 @@ torch::Tensor VectorCrossAttentionImpl::forward(const torch::Tensor &h, const to
     return (val * w.unsqueeze(-1)).sum(1).reshape({n, d});   // (eq. 13)
 }
 
+void QueryDecoderImpl::start_at_prior() {
+    torch::NoGradGuard no_grad;
+    auto *last = out[out->size() - 1]->as<torch::nn::LinearImpl>();
+    TORCH_CHECK(last != nullptr, "start_at_prior: the decoder's output layer is not a Linear");
+    last->weight.zero_();
+    last->bias.zero_();
+}
+
 QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) : cfg(c) {
     embed = register_module("embed", make_mlp(9, cfg.dim, cfg.dim));
     out = register_module("out", torch::nn::Sequential(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})),

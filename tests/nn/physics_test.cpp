@@ -199,6 +199,10 @@ TEST(Physics, TransportPriorKeepsTheSymmetriesAndMatchesTheFurnace) {
     ASSERT_EQ(scale.size(1), 3);
     EXPECT_GT((scale.select(1, 0).max() / scale.select(1, 0).min()).item<double>(), 1.5);
 
+    // start_at_prior: the model is exactly its prior (expm1(softplus(0)) = 1), whatever else it learned.
+    m->decoder->start_at_prior();
+    EXPECT_TRUE(torch::allclose(predict(m, f.sp, f.qp), scale, 1e-6, 0.0));
+
     const float rho = 0.5f, le = 1.f;
     const Scene furnace = furnace_box(rho, le);
     const auto fsp = point_tensor(to_scene_points(sample_surface(furnace, f.cfg.scene_points, 2, SampleStream::scene_points)));

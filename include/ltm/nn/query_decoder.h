@@ -35,6 +35,10 @@ struct QueryDecoderImpl : torch::nn::Module {
     torch::Tensor forward(const torch::Tensor &query, const torch::Tensor &latents, const torch::Tensor &anchors,
                           const torch::Tensor &idx);
     DecoderConfig cfg;
+    /// Zeroes 𝓦_out's last Linear: z = softplus(0) = ln 2 for every query, so expm1(z) = 1 and the
+    /// model predicts exactly its prior (output_scale) — a start at the closed form, from which
+    /// training only has to learn the correction. Gradients still reach every layer after the first step.
+    void start_at_prior();
     torch::nn::Sequential embed{nullptr}, out{nullptr};            // 𝓗 (eq. 9) and 𝓦_out (eq. 14)
     torch::nn::Sequential pos_mlp{nullptr};                        // γ(Δp) (eq. 10): Linear → ReLU → Linear
     torch::nn::ModuleList attention{nullptr}, norms{nullptr}, ffn{nullptr}, ffn_norms{nullptr};
