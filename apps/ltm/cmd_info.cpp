@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/points/safetensors.h"
 #include "ltm/procgen/training_range.h"
