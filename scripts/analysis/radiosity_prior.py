@@ -2,14 +2,15 @@
 """radiosity_prior.py: does a visibility-free radiosity solve on the scene points predict E+ better
 than the house-wide power balance?  (issue #10: a closed-form prior from the scene points alone.)
 
-Each scene point j is a Lambertian disc of area a = A/M (A from the record's exact emission scale:
-S = pi*Phi/A, Phi = sum_j a*pi*L_e,j  =>  A cancels: a = pi^2 * sum(L_e)/ (M * S) ... see below), radiance
-L_e,j (emission columns), albedo rho_j. Transfer without visibility (cosines clamp back faces):
+Each scene point j is a Lambertian disc of area a = A/M (estimated from the 8th-neighbour
+spacing, a = pi r_8^2 / 8; the results barely depend on it), radiance L_e,j (emission columns), albedo rho_j. Transfer without visibility (cosines clamp back faces):
     G_ij = a * max(0, n_i.w_ij) * max(0, -n_j.w_ij) / (r_ij^2 + a/pi)     (w_ij = (p_j - p_i)/r_ij)
 (on axis this is the exact irradiance of a disc of area a: L*a/(r^2 + a/pi)).
     L_1 = rho/pi * G L_e,  L_{k+1} = rho/pi * G L_k,  E+(q) = sum_j G_qj * sum_{k=1..D} L_k,j.
 Variants: 'rad' (as above), 'rad-pb' (rad's shape rescaled so its area mean equals the global power
-balance), 'global' (the model's output scale). Reported per house as MSE / flat-oracle MSE on
+balance), 'norm' (each receiver's row normalised to sum 1, exitance B = pi L: what
+points/transport_prior.h implements), 'norm-pb' (its shape at the power-balance level), 'mix',
+'global' (the flat model's output scale). Reported per house as MSE / flat-oracle MSE on
 spread query points (every 4th row: records store queries mesh by mesh) and level mean(prior)/mean(ref).
 Usage: python3 radiosity_prior.py DIR [max_records] [bounces]
 """
@@ -45,9 +46,7 @@ def main():
         S = r['emission_scale'].astype(np.float64) if 'emission_scale' in r else np.pi * sp[:, 9:12].mean(0)
         M = sp.shape[0]
         Le, rho = sp[:, 9:12], sp[:, 6:9]
-        # Area per point from the exact scale: S = pi*Phi/A and Phi ~ a*pi*sum(Le) with A = M*a  =>
-        # S = pi*sum(Le)/M regardless of a; so a is not identified by S. Use the FPS-free estimate
-        # a = A/M with A from the scene's bounding-box-free kNN spacing: a ~ pi * r_8^2 / 8.
+        # Area per point from the point spacing: pi r_8^2 holds ~8 points of a uniform 2-D sample.
         sub = sp[np.random.default_rng(0).choice(M, 512, replace=False), 0:3]
         d2 = ((sub[:, None] - sp[None, :, 0:3]) ** 2).sum(-1)
         r8 = np.sqrt(np.sort(d2, 1)[:, 8])

@@ -7,6 +7,7 @@
 #include "ltm/core/math.h"
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
+#include "ltm/points/point_set.h"
 
 #include <optional>
 
@@ -30,35 +31,43 @@ torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces) {
 }
 
 namespace {
-std::vector<Vec3f> rows_of(const torch::Tensor &t) {   // [n, 3] -> n Vec3f
-    const auto c = t.detach().to(torch::kCPU, torch::kFloat32).contiguous();
-    std::vector<Vec3f> out(size_t(c.size(0)));
-    const float *p = c.data_ptr<float>();
-    for (size_t i = 0; i < out.size(); ++i) out[i] = Vec3f(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-    return out;
+// Scene point rows [n, 12] as a scene point table (the transport prior's input, points/).
+PointSet scene_point_table(const torch::Tensor &rows) {
+    const auto c = rows.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    PointSet p;
+    p.columns = scene_point_columns();
+    p.values.assign(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+    return p;
 }
 
 // The transport prior among the FPS anchors (points/transport_prior.h), in the normalised frame.
 // Each anchor stands for M/m scene points; a scene point for π (3ℓ/2)² / k of area — the k group
 // members of an FPS centre lie within ~3ℓ/2 (mean distance 2/3 of a disc's radius), and ℓ = 1 in
-// this frame. Emitters are few (20–130 of 8 192 points), so the anchors' emission is rescaled per
-// channel to π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp
-// that FPS missed) uses every scene point as a node instead.
+// this frame. Emitters are few (20–130 of 8 192 points), so the solver rescales the anchors'
+// emission per channel to π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a
+// tiny lamp that FPS missed) uses every scene point as a node instead.
 std::shared_ptr<const TransportPrior> solve_anchor_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
                                                              const SceneNormalization &n, int bounces) {
     torch::NoGradGuard no_grad;
     const int64_t m_all = sp.size(0), k = geometry.groups.size(1);
     auto nodes = sp.index_select(0, geometry.centers);
-    auto e_mean = nodes.slice(1, 9, 12).mean(0);
-    if (((e_mean <= 0) & (n.emission > 0)).any().item<bool>()) {
-        nodes = sp;
-        e_mean = sp.slice(1, 9, 12).mean(0);
-    }
-    const auto gain = torch::where(e_mean > 0, n.emission / (k_pi * e_mean.clamp_min(1e-30)), torch::zeros_like(e_mean));
+    if (((nodes.slice(1, 9, 12).mean(0) <= 0) & (n.emission > 0)).any().item<bool>()) nodes = sp;
     const double area = k_pi * 2.25 / double(k) * double(m_all) / double(nodes.size(0));
-    return std::make_shared<const TransportPrior>(solve_transport_prior(
-        rows_of((nodes.slice(1, 0, 3) - n.center) / n.length), rows_of(nodes.slice(1, 3, 6)),
-        rows_of(nodes.slice(1, 6, 9)), rows_of(nodes.slice(1, 9, 12) * gain), float(area), bounces));
+    const auto e = n.emission.to(torch::kCPU, torch::kFloat32);
+    const Vec3f s(e[0].item<float>(), e[1].item<float>(), e[2].item<float>());
+    const auto framed = torch::cat({(nodes.slice(1, 0, 3) - n.center) / n.length, nodes.slice(1, 3, 12)}, 1);
+    return std::make_shared<const TransportPrior>(solve_transport_prior(scene_point_table(framed), float(area), bounces, &s));
+}
+
+// output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]
+torch::Tensor output_scale_normalized(const torch::Tensor &q, const SceneNormalization &norm) {
+    if (!norm.transport) return norm.output;
+    torch::NoGradGuard no_grad;
+    const auto qc = q.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    auto out = torch::empty({qc.size(0), 3}, torch::kFloat32);
+    const float *p = qc.data_ptr<float>();
+    gather_transport_prior(*norm.transport, p, p + 3, 9, size_t(qc.size(0)), out.data_ptr<float>());
+    return torch::maximum(out.to(norm.output.device()), 1e-3 * norm.output);
 }
 }  // namespace
 
@@ -185,7 +194,7 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
         local.knn += since(t);
         t = clock::now();
-        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), output_scale(qp, latents.norm)));
+        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), output_scale_normalized(q, latents.norm)));
     }
     auto out = parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
     local.decode += since(t);
@@ -200,13 +209,7 @@ int64_t LtmModelImpl::n_parameters() const {
 }
 
 torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormalization &norm) {
-    if (!norm.transport) return norm.output;
-    torch::NoGradGuard no_grad;
-    const auto q = normalize_query_points(query_points, norm).to(torch::kCPU, torch::kFloat32).contiguous();
-    auto out = torch::empty({q.size(0), 3}, torch::kFloat32);
-    const float *p = q.data_ptr<float>();
-    gather_transport_prior(*norm.transport, p, p + 3, 9, size_t(q.size(0)), out.data_ptr<float>());
-    return torch::maximum(out.to(norm.output.device()), 1e-3 * norm.output);
+    return norm.transport ? output_scale_normalized(normalize_query_points(query_points, norm), norm) : norm.output;
 }
 
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }
