@@ -40,23 +40,25 @@ PointSet scene_point_table(const torch::Tensor &rows) {
     return p;
 }
 
-// The transport prior among the FPS anchors (points/transport_prior.h), in the normalised frame.
-// Each anchor stands for M/m scene points; a scene point for π (3ℓ/2)² / k of area — the k group
-// members of an FPS centre lie within ~3ℓ/2 (mean distance 2/3 of a disc's radius), and ℓ = 1 in
-// this frame. Emitters are few (20–130 of 8 192 points), so the solver rescales the anchors'
-// emission per channel to π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a
-// tiny lamp that FPS missed) uses every scene point as a node instead.
-std::shared_ptr<const TransportPrior> solve_anchor_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
-                                                             const SceneNormalization &n, int bounces) {
+// The transport prior (points/transport_prior.h) in the normalised frame, among the FPS anchors
+// (prior_nodes "anchors") or every scene point ("points"). Each of n nodes stands for M/n scene
+// points; a scene point for π (3ℓ/2)² / k of area — the k group members of an FPS centre lie
+// within ~3ℓ/2 (mean distance 2/3 of a disc's radius), and ℓ = 1 in this frame. Emitters are few
+// (20–130 of 8 192 points), so the solver rescales the nodes' emission per channel to
+// π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp that FPS
+// missed) uses every scene point as a node instead.
+std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
+                                                      const SceneNormalization &n, const PhysicsConfig &physics) {
     torch::NoGradGuard no_grad;
     const int64_t m_all = sp.size(0), k = geometry.groups.size(1);
-    auto nodes = sp.index_select(0, geometry.centers);
+    auto nodes = physics.prior_nodes == "points" ? sp : sp.index_select(0, geometry.centers);
     if (((nodes.slice(1, 9, 12).mean(0) <= 0) & (n.emission > 0)).any().item<bool>()) nodes = sp;
     const double area = k_pi * 2.25 / double(k) * double(m_all) / double(nodes.size(0));
     const auto e = n.emission.to(torch::kCPU, torch::kFloat32);
     const Vec3f s(e[0].item<float>(), e[1].item<float>(), e[2].item<float>());
     const auto framed = torch::cat({(nodes.slice(1, 0, 3) - n.center) / n.length, nodes.slice(1, 3, 12)}, 1);
-    return std::make_shared<const TransportPrior>(solve_transport_prior(scene_point_table(framed), float(area), bounces, &s));
+    return std::make_shared<const TransportPrior>(
+        solve_transport_prior(scene_point_table(framed), float(area), physics.prior_bounces, &s));
 }
 
 // output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]
@@ -107,7 +109,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
         // No emission among the scene points: S = 0, so E⁺ = 0 (no light, no indirect light).
         n.output = n.emission;
         if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(sp.slice(1, 6, 9).mean(0), physics.prior_bounces);
-        if (physics.prior_field == "transport") n.transport = solve_anchor_transport(sp, geometry, n, physics.prior_bounces);
+        if (physics.prior_field == "transport") n.transport = solve_transport(sp, geometry, n, physics);
     }
     return n;
 }

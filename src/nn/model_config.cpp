@@ -55,7 +55,12 @@ ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
         c.physics.prior_bounces = ph.get_int("prior_bounces", c.physics.prior_bounces);
         c.physics.translation_invariant = ph.get_bool("translation_invariant", c.physics.translation_invariant);
         c.physics.prior_field = ph.get_string("prior_field", c.physics.prior_field);
+        c.physics.prior_nodes = ph.get_string("prior_nodes", c.physics.prior_nodes);
         ph.finish();
+        if (c.physics.prior_nodes != "anchors" && c.physics.prior_nodes != "points")
+            LTM_THROW(ph.where("prior_nodes"), ": must be \"anchors\" or \"points\", got \"", c.physics.prior_nodes, "\"");
+        if (c.physics.prior_nodes != "anchors" && c.physics.prior_field != "transport")
+            LTM_THROW(ph.where("prior_nodes"), ": only the \"transport\" prior has nodes");
         if (c.physics.prior_field != "flat" && c.physics.prior_field != "transport")
             LTM_THROW(ph.where("prior_field"), ": must be \"flat\" or \"transport\", got \"", c.physics.prior_field, "\"");
         if (c.physics.prior_field == "transport" && (c.physics.prior_bounces < 1 || !c.physics.length_scale))
@@ -95,6 +100,7 @@ OrderedJson ModelConfig::to_json() const {
         // (checkpoints compare it on resume).
         if (physics.translation_invariant) j["physics"]["translation_invariant"] = true;
         if (physics.prior_field != "flat") j["physics"]["prior_field"] = physics.prior_field;
+        if (physics.prior_nodes != "anchors") j["physics"]["prior_nodes"] = physics.prior_nodes;
     }
     return j;
 }

@@ -13,6 +13,7 @@
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/power_balance.h"
 #include "ltm/points/surface_sampler.h"
+#include "ltm/points/transport_prior.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "test_util.h"
 #include "tiny_scene_fixture.h"
@@ -57,6 +58,8 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
         EXPECT_EQ(c.physics.translation_invariant, std::string(name) == "cpu-ti" || tp) << name;
         EXPECT_EQ(c.physics.prior_field, tp ? "transport" : "flat") << name;
         EXPECT_EQ(c.to_json()["physics"].contains("prior_field"), tp) << "written only when not flat: " << name;
+        EXPECT_EQ(c.physics.prior_nodes, tp ? "points" : "anchors") << name;
+        EXPECT_EQ(c.to_json()["physics"].contains("prior_nodes"), tp) << "written only when not anchors: " << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
     Json j = parse_json(ModelConfig::from_file(test::source_path("configs/model/tiny.json")).to_json().dump(), "t");
@@ -72,6 +75,10 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
     j["physics"] = {{"prior_field", "transport"}, {"length_scale", false}};
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "transport needs node areas in units of ℓ";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_nodes", "all"}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
+    j["physics"] = {{"prior_nodes", "points"}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "only the transport prior has nodes";
 }
 
 TEST(Physics, EmissionLinearityIsExactAndLegacyIsNot) {
@@ -213,6 +220,46 @@ TEST(Physics, TransportPriorKeepsTheSymmetriesAndMatchesTheFurnace) {
     const auto fs = output_scale(fqp, fl.norm);
     const auto expect = fl.norm.emission * series;   // S · Σ ρ^k (S = π · mean emission of the points)
     EXPECT_LT((fs - expect).abs().max().item<double>(), 1e-3 * expect.max().item<double>()) << fs.slice(0, 0, 4);
+}
+
+// prior_nodes = "points": the model's prior is the torch-free solver's (points/transport_prior.h)
+// on every scene point in the normalised frame — two code paths, one number — and no longer
+// depends on which points FPS picked: a unit change by 10 (not a power of two, so FPS near-ties
+// may flip) moves the prior only by rounding, while with anchors as nodes it moves visibly.
+TEST(Physics, TransportPriorOnEveryPointIsTheSolversAndUnitInvariant) {
+    Fixture f;
+    f.cfg.physics.prior_field = "transport";
+    f.cfg.physics.prior_nodes = "points";
+    LtmModel m = make_model(f.cfg, 6);
+    torch::NoGradGuard no_grad;
+    const SceneGeometry g = m->scene_geometry(f.sp);
+    const SceneNormalization n = scene_normalization(f.sp, g, f.cfg.physics);
+    const auto scale = output_scale(f.qp, n);
+
+    const double ell = n.length.item<double>();
+    const auto framed = torch::cat({(f.sp.slice(1, 0, 3) - n.center) / n.length, f.sp.slice(1, 3, 12)}, 1).contiguous();
+    PointSet nodes(scene_point_columns(), size_t(framed.size(0)));
+    nodes.values.assign(framed.data_ptr<float>(), framed.data_ptr<float>() + framed.numel());
+    const Vec3f s(n.emission[0].item<float>(), n.emission[1].item<float>(), n.emission[2].item<float>());
+    const TransportPrior tp = solve_transport_prior(nodes, float(k_pi * 2.25 / double(g.groups.size(1))), f.cfg.physics.prior_bounces, &s);
+    const auto q = normalize_query_points(f.qp, n).contiguous();
+    std::vector<float> expect(size_t(q.size(0)) * 3);
+    gather_transport_prior(tp, q.data_ptr<float>(), q.data_ptr<float>() + 3, 9, size_t(q.size(0)), expect.data());
+    const auto e = torch::maximum(torch::from_blob(expect.data(), {q.size(0), 3}).clone(), 1e-3 * n.output);
+    EXPECT_TRUE(torch::allclose(scale, e, 1e-5, 0.0)) << (scale - e).abs().max();
+    ASSERT_GT(ell, 0.0);
+
+    auto unit_error = [&](const ModelConfig &cfg) {
+        const auto s10 = scaled(f.sp, 0, 3, 10.0), q10 = scaled(f.qp, 0, 3, 10.0);
+        const auto a = output_scale(f.qp, scene_normalization(f.sp, g, cfg.physics));
+        const auto b = output_scale(q10, scene_normalization(s10, LtmModel(cfg)->scene_geometry(s10), cfg.physics));
+        return relative_error(b, a);
+    };
+    EXPECT_LT(unit_error(f.cfg), 1e-4);
+    ModelConfig anchors = f.cfg;
+    anchors.physics.prior_nodes = "anchors";
+    // Measured: 9e-6 with every point a node, 4e-4 with the anchors (this fixture's FPS ties flip).
+    EXPECT_GT(unit_error(anchors), 5.0 * unit_error(f.cfg));
 }
 
 TEST(Physics, NormalisationMatchesItsDefinition) {
