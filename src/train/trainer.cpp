@@ -33,8 +33,8 @@ TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
     c.weight_decay = o.get_float("weight_decay", c.weight_decay);
     c.grad_clip = o.get_float("grad_clip", c.grad_clip);
     c.loss = o.get_string("loss", c.loss);
-    if (c.loss != "relative-l2" && c.loss != "log-relative-l2")
-        LTM_THROW(o.where("loss"), ": '", c.loss, "' is not one of relative-l2, log-relative-l2");
+    if (c.loss != "relative-l2" && c.loss != "log-relative-l2" && c.loss != "level-l2")
+        LTM_THROW(o.where("loss"), ": '", c.loss, "' is not one of relative-l2, log-relative-l2, level-l2");
     c.loss_eps = o.get_float("loss_eps", c.loss_eps);
     c.val_fraction = o.get_float("val_fraction", c.val_fraction);
     c.val_scenes = o.get_int("val_scenes", c.val_scenes);
@@ -200,7 +200,17 @@ TrainStepLog Trainer::train_step() {
 torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target, const torch::Tensor &scale) const {
     const auto y = normalized_target(target, scale);
     if (m_cfg.loss == "log-relative-l2") return relative_l2_log_loss(z, y, m_cfg.loss_eps);
+    if (m_cfg.loss == "level-l2") return level_l2_loss(torch::expm1(z), y, scale);
     return relative_l2_loss(torch::expm1(z), y, m_cfg.loss_eps);
+}
+
+torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale) {
+    TORCH_CHECK(pred.sizes() == target.sizes() && pred.dim() == 2 && pred.size(1) == 3, "loss: prediction ", pred.sizes(),
+                " and target ", target.sizes(), " must be the same [N, 3]");
+    const auto s = scale.detach().expand_as(pred);
+    const auto level = s.mean(0, /*keepdim=*/true).clamp_min(1e-30);
+    const auto w = (s / level).clamp_max(1.0);
+    return ((pred - target) * w).pow(2).mean();
 }
 
 namespace {

@@ -223,3 +223,30 @@ TEST(Trainer, EveryShippedConfigParses) {
         }
     EXPECT_GE(n, 14);
 }
+
+// level-l2 (the camera's error): weights min(1, prior / L) with L the batch's mean prior, per channel.
+TEST(Trainer, LevelL2WeightsDarkPointsAbsolutelyAndIsMinimisedByTheMean) {
+    // Two points, prior 3 and 1 in every channel: L = 2, weights 1 and 1/2; unit ratio errors.
+    const auto scale = torch::tensor({3.f, 3.f, 3.f, 1.f, 1.f, 1.f}).view({2, 3});
+    const auto target = torch::zeros({2, 3});
+    EXPECT_NEAR(level_l2_loss(torch::ones({2, 3}), target, scale).item<double>(), (1.0 + 0.25) / 2.0, 1e-7);
+    // Invariant to a common scale of the prior; a flat prior ([3]) weights every point 1.
+    EXPECT_NEAR(level_l2_loss(torch::ones({2, 3}), target, scale * 1e6).item<double>(), 0.625, 1e-6);
+    EXPECT_NEAR(level_l2_loss(torch::ones({2, 3}), target, torch::tensor({2.f, 2.f, 2.f})).item<double>(), 1.0, 1e-7);
+    // Channels are independent: a prior bright in red only does not reweight green.
+    const auto red = torch::tensor({3.f, 1.f, 1.f, 1.f, 1.f, 1.f}).view({2, 3});
+    const auto g = torch::zeros({2, 3}).index_put_({torch::indexing::Slice(), 1}, 1.f);
+    EXPECT_NEAR(level_l2_loss(g, target, red).item<double>(), 2.0 / 6.0, 1e-7);
+    // A weighted L2: one prediction against noisy targets is best at their mean.
+    const auto y = torch::tensor({0.2f, 1.0f, 3.0f, 0.4f}).view({4, 1}).expand({4, 3});
+    const auto s = torch::ones({4, 3});
+    auto gradient_at = [&](float p) {
+        auto pp = torch::full({1, 3}, p).requires_grad_(true);
+        level_l2_loss(pp.expand({4, 3}), y, s).backward();
+        return pp.grad().sum().item<double>();
+    };
+    const float mean = y.select(1, 0).mean().item<float>();
+    EXPECT_NEAR(gradient_at(mean), 0.0, 1e-6);
+    EXPECT_LT(gradient_at(mean - 0.1f), 0.0);
+    EXPECT_THROW(level_l2_loss(torch::ones({2, 2}), torch::ones({2, 2}), scale), c10::Error);
+}

@@ -31,6 +31,7 @@ struct TrainConfig {
     /// "relative-l2": linear-space relative L2 with a detached denominator (unbiased with noisy,
     /// low-spp targets); "log-relative-l2": v0.3's log-space loss. Both compare in the model's
     /// output frame (E⁺ / SceneNormalization::output), so they are invariant to emission scale.
+    /// "level-l2": the camera's error (level_l2_loss below; loss_eps unused).
     std::string loss = "relative-l2";
     /// ε of the loss denominator: relative-l2 adds ε · batch mean of the prediction (1: points far
     /// below the mean are weighted like absolute errors, bright ones relatively); log-relative-l2
@@ -68,6 +69,16 @@ struct TrainStepLog {
     double loss, lr, grad_norm;
     bool skipped;   ///< non-finite loss or gradient: no update
 };
+
+/// "level-l2": what a camera's view metric counts (tone-mapped MSE, each view divided by its own
+/// level). In absolute units each point's error is divided by max(its prior, L_c), L_c the mean
+/// prior of the scene's queries in the batch: below the level errors count absolutely (a dark
+/// corner's ratio error matters as little as its light does — the relative loss weights it by
+/// 1/prior², the camera does not), above it relatively (the metric clamps bright pixels). In the
+/// model's ratio frame:  mean over points and channels of ((r̂ − r) · min(1, prior / L))².
+///   pred, target [N, 3] (ratios to the prior), scale [3] or [N, 3] (output_scale) -> scalar
+/// Unbiased with noisy targets (a weighted L2); invariant to a common scale of the prior.
+torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale);
 
 class Trainer {
 public:
