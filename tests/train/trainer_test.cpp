@@ -148,7 +148,8 @@ TEST(Trainer, SeparateValidationDirectory) {
     EXPECT_THROW(Trainer(mc, t, {train}, dir.path("run3"), torch::kCPU, {dir.path("empty")}), Error);
 }
 
-// The tiny model memorises one scene: the loss falls at least 10× within a minute.
+// The tiny model memorises one scene: the loss falls at least 10× within 700 steps (its time is
+// printed, not asserted: a wall-clock bound fails under a background load, issue #14 item 10).
 TEST(Trainer, TinyModelOverfitsOneScene) {
     test::TempDir dir;
     const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
@@ -175,7 +176,6 @@ TEST(Trainer, TinyModelOverfitsOneScene) {
     double first = 0, last = 0;
     for (int i = 0; i < 10; ++i) first += h[size_t(i)].loss / 10, last += h[h.size() - 1 - size_t(i)].loss / 10;
     EXPECT_LT(last, first / 10) << "first " << first << " last " << last;
-    EXPECT_LT(secs, 60.0);
     std::cout << "overfit: loss " << first << " -> " << last << " in " << secs << " s; per 50 steps:";
     for (size_t i = 0; i + 50 <= h.size(); i += 50) {
         double m = 0;
