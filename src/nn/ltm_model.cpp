@@ -1,6 +1,7 @@
 // ltm_model.cpp: wiring of embedding, encoder and decoder, and the loss.
 #include "ltm/nn/ltm_model.h"
 
+#include <cmath>
 #include <chrono>
 
 #include "ltm/core/error.h"
@@ -46,19 +47,24 @@ PointSet scene_point_table(const torch::Tensor &rows) {
 // within ~3ℓ/2 (mean distance 2/3 of a disc's radius), and ℓ = 1 in this frame. Emitters are few
 // (20–130 of 8 192 points), so the solver rescales the nodes' emission per channel to
 // π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp that FPS
-// missed) uses every scene point as a node instead.
+// missed) uses every scene point as a node instead. With prior_visibility, occlusion from the
+// voxels of every scene point (points/point_visibility.h), edge prior_visibility · √(π (3/2)² / k).
 std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
                                                       const SceneNormalization &n, const PhysicsConfig &physics) {
     torch::NoGradGuard no_grad;
     const int64_t m_all = sp.size(0), k = geometry.groups.size(1);
-    auto nodes = physics.prior_nodes == "points" ? sp : sp.index_select(0, geometry.centers);
-    if (((nodes.slice(1, 9, 12).mean(0) <= 0) & (n.emission > 0)).any().item<bool>()) nodes = sp;
-    const double area = k_pi * 2.25 / double(k) * double(m_all) / double(nodes.size(0));
+    const auto framed = torch::cat({(sp.slice(1, 0, 3) - n.center) / n.length, sp.slice(1, 3, 12)}, 1);
+    auto nodes = physics.prior_nodes == "points" ? framed : framed.index_select(0, geometry.centers);
+    if (((nodes.slice(1, 9, 12).mean(0) <= 0) & (n.emission > 0)).any().item<bool>()) nodes = framed;
+    const double point_area = k_pi * 2.25 / double(k);
+    const double area = point_area * double(m_all) / double(nodes.size(0));
     const auto e = n.emission.to(torch::kCPU, torch::kFloat32);
     const Vec3f s(e[0].item<float>(), e[1].item<float>(), e[2].item<float>());
-    const auto framed = torch::cat({(nodes.slice(1, 0, 3) - n.center) / n.length, nodes.slice(1, 3, 12)}, 1);
+    VisibilityOptions vis;
+    vis.voxel = float(double(physics.prior_visibility) * std::sqrt(point_area));   // in units of the spacing √(A/M)
+    const PointSet all = scene_point_table(framed);
     return std::make_shared<const TransportPrior>(
-        solve_transport_prior(scene_point_table(framed), float(area), physics.prior_bounces, &s));
+        solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all));
 }
 
 // output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]

@@ -56,7 +56,12 @@ ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
         c.physics.translation_invariant = ph.get_bool("translation_invariant", c.physics.translation_invariant);
         c.physics.prior_field = ph.get_string("prior_field", c.physics.prior_field);
         c.physics.prior_nodes = ph.get_string("prior_nodes", c.physics.prior_nodes);
+        c.physics.prior_visibility = ph.get_float("prior_visibility", c.physics.prior_visibility);
         ph.finish();
+        if (!(c.physics.prior_visibility >= 0.f && c.physics.prior_visibility <= 64.f))
+            LTM_THROW(ph.where("prior_visibility"), ": must be in [0, 64] (voxel edge / point spacing), got ", c.physics.prior_visibility);
+        if (c.physics.prior_visibility > 0.f && c.physics.prior_field != "transport")
+            LTM_THROW(ph.where("prior_visibility"), ": only the \"transport\" prior has visibility");
         if (c.physics.prior_nodes != "anchors" && c.physics.prior_nodes != "points")
             LTM_THROW(ph.where("prior_nodes"), ": must be \"anchors\" or \"points\", got \"", c.physics.prior_nodes, "\"");
         if (c.physics.prior_nodes != "anchors" && c.physics.prior_field != "transport")
@@ -101,6 +106,7 @@ OrderedJson ModelConfig::to_json() const {
         if (physics.translation_invariant) j["physics"]["translation_invariant"] = true;
         if (physics.prior_field != "flat") j["physics"]["prior_field"] = physics.prior_field;
         if (physics.prior_nodes != "anchors") j["physics"]["prior_nodes"] = physics.prior_nodes;
+        if (physics.prior_visibility > 0.f) j["physics"]["prior_visibility"] = json_float(physics.prior_visibility);
     }
     return j;
 }

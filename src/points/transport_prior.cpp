@@ -2,6 +2,7 @@
 #include "ltm/points/transport_prior.h"
 
 #include <cmath>
+#include <utility>
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
@@ -44,8 +45,9 @@ inline float sum8(const float *__restrict a, size_t m) {
 
 // Ĝ's unnormalised row for a receiver (p, n): G_j without the area factor a (it cancels in the
 // row normalisation), see the header. The receiver's own node (r = 0) gets 0 from the cosines.
-// Returns the row sum; row[j] receives the terms.
-inline float transfer_row(const Soa &s, size_t m, Vec3f p, Vec3f n, float reg, float *__restrict row) {
+// mask (null: all 1) multiplies the terms: visibility. Returns the row sum; row[j] receives the terms.
+inline float transfer_row(const Soa &s, size_t m, Vec3f p, Vec3f n, float reg, const float *__restrict mask,
+                          float *__restrict row) {
     const float *__restrict px = s.px.data(), *__restrict py = s.py.data(), *__restrict pz = s.pz.data();
     const float *__restrict nx = s.nx.data(), *__restrict ny = s.ny.data(), *__restrict nz = s.nz.data();
     for (size_t j = 0; j < m; ++j) {
@@ -56,13 +58,23 @@ inline float transfer_row(const Soa &s, size_t m, Vec3f p, Vec3f n, float reg, f
         const float t = cr * cs / (r2 * (r2 + reg) + 1e-30f);
         row[j] = (cr > 0.f && cs > 0.f) ? t : 0.f;
     }
+    if (mask)
+        for (size_t j = 0; j < m; ++j) row[j] *= mask[j];
     return sum8(row, m);
+}
+
+// The visibility mask of a receiver in cluster c: mask[j] = V(c, cluster(j)).
+void visibility_mask(const ClusterVisibility &v, uint32_t c, std::vector<float> &mask) {
+    const size_t C = v.size();
+    mask.resize(v.node_cluster.size());
+    const uint8_t *row = v.visible.data() + size_t(c) * C;
+    for (size_t j = 0; j < mask.size(); ++j) mask[j] = float(row[v.node_cluster[j]]);
 }
 }  // namespace
 
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
-                                     float node_area, int bounces) {
+                                     float node_area, int bounces, ClusterVisibility visibility) {
     const size_t m = position.size();
     if (m == 0) LTM_THROW("transport prior: no nodes");
     if (normal.size() != m || albedo.size() != m || radiance.size() != m)
@@ -70,8 +82,12 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
                   radiance.size(), " radiances");
     if (!(node_area > 0.f) || !std::isfinite(node_area)) LTM_THROW("transport prior: node area must be > 0, got ", node_area);
     if (bounces < 0) LTM_THROW("transport prior: bounces must be >= 0, got ", bounces);
+    if (!visibility.empty() && visibility.node_cluster.size() != m)
+        LTM_THROW("transport prior: visibility for ", visibility.node_cluster.size(), " nodes, not ", m);
     TransportPrior out;
     out.position = position, out.normal = normal, out.area = node_area;
+    out.visibility = std::move(visibility);
+    const ClusterVisibility &vis = out.visibility;
     out.exitance.assign(m, Vec3f(0.f));
     if (bounces == 0) return out;
     const Soa soa(position, normal);
@@ -79,9 +95,12 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     const float reg = node_area / float(k_pi);
     std::vector<float> g(m * m);
     parallel_for(0, int64_t(m), 16, [&](int64_t b, int64_t e) {
+        std::vector<float> mask;
         for (int64_t i = b; i < e; ++i) {
             float *row = g.data() + size_t(i) * m;
-            const float sum = transfer_row(soa, m, position[size_t(i)], normal[size_t(i)], reg, row);
+            if (!vis.empty()) visibility_mask(vis, vis.node_cluster[size_t(i)], mask);
+            const float sum = transfer_row(soa, m, position[size_t(i)], normal[size_t(i)], reg,
+                                           vis.empty() ? nullptr : mask.data(), row);
             const float inv = sum > 0.f ? 1.f / sum : 0.f;
             for (size_t j = 0; j < m; ++j) row[j] *= inv;
         }
@@ -104,10 +123,34 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
             for (size_t j = 0; j < m; ++j) out.exitance[j][c] += b[c][j];
         }
     }
+    if (!vis.empty()) {
+        // Approximate occlusion breaks the closure that keeps power balanced: a falsely blocked far
+        // node drops out of a row, the near ones gain, and the lit rooms recirculate too much light
+        // (validation views: level 1.19). Restore the enclosure's balance per channel: the area mean
+        // of E⁺ at the nodes (equal areas) is π L̄_c Σ_{k=1..D} ρ̄_c^k, as in a closed box (exact in
+        // the furnace; points/power_balance.h).
+        Vec3f mean_e(0.f), mean_rho(0.f), mean_le(0.f);
+        std::vector<float> ex[3];
+        for (int c = 0; c < 3; ++c)
+            for (size_t j = 0; j < m; ++j) ex[c].push_back(out.exitance[j][c]);
+        for (size_t i = 0; i < m; ++i) {
+            const float *row = g.data() + i * m;
+            for (int c = 0; c < 3; ++c) mean_e[c] += dot8(row, ex[c].data(), m) / float(m);
+            mean_rho += albedo[i] / float(m), mean_le += radiance[i] / float(m);
+        }
+        for (int c = 0; c < 3; ++c) {
+            double series = 0, term = 1;
+            for (int k = 0; k < bounces; ++k) series += (term *= double(mean_rho[c]));
+            const double target = k_pi * double(mean_le[c]) * series;
+            const float gain = mean_e[c] > 0.f ? float(target / double(mean_e[c])) : 0.f;
+            for (size_t j = 0; j < m; ++j) out.exitance[j][c] *= gain;
+        }
+    }
     return out;
 }
 
-TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bounces, const Vec3f *emission_scale) {
+TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bounces, const Vec3f *emission_scale,
+                                     const VisibilityOptions &vis, const PointSet *occupancy) {
     if (sp.columns != scene_point_columns()) LTM_THROW("transport prior: not a scene point table");
     const size_t m = sp.size();
     std::vector<Vec3f> p(m), n(m), rho(m), le(m);
@@ -122,7 +165,21 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         for (int c = 0; c < 3; ++c) gain[c] = mean[c] > 0.f ? (*emission_scale)[c] / (float(k_pi) * mean[c]) : 0.f;
         for (auto &l : le) l = l * gain;
     }
-    return solve_transport_prior(p, n, rho, le, node_area, bounces);
+    ClusterVisibility v;
+    if (vis.voxel > 0.f) {
+        std::vector<Vec3f> op, on;
+        if (occupancy) {
+            if (occupancy->columns != scene_point_columns()) LTM_THROW("transport prior: occupancy is not a scene point table");
+            for (size_t i = 0; i < occupancy->size(); ++i) {
+                op.emplace_back(occupancy->at(i, 0), occupancy->at(i, 1), occupancy->at(i, 2));
+                on.emplace_back(occupancy->at(i, 3), occupancy->at(i, 4), occupancy->at(i, 5));
+            }
+        } else {
+            op = p, on = n;
+        }
+        v = cluster_visibility(p, n, VoxelOccupancy(op, on, vis.voxel), vis.clusters);
+    }
+    return solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v));
 }
 
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
@@ -134,11 +191,14 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
     for (int c = 0; c < 3; ++c)
         for (size_t j = 0; j < m; ++j) ex[c].push_back(prior.exitance[j][c]);
     const float reg = prior.area / float(k_pi);
+    const ClusterVisibility &vis = prior.visibility;
     parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
-        std::vector<float> row(m);
+        std::vector<float> row(m), mask;
         for (int64_t q = b; q < e; ++q) {
             const float *pp = position + size_t(q) * stride, *pn = normal + size_t(q) * stride;
-            const float w = transfer_row(soa, m, Vec3f(pp[0], pp[1], pp[2]), Vec3f(pn[0], pn[1], pn[2]), reg, row.data());
+            const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
+            if (!vis.empty()) visibility_mask(vis, vis.cluster_of(p, nq), mask);
+            const float w = transfer_row(soa, m, p, nq, reg, vis.empty() ? nullptr : mask.data(), row.data());
             float *o = out + size_t(q) * 3;
             for (int c = 0; c < 3; ++c) o[c] = w > 0.f ? dot8(row.data(), ex[c].data(), m) / w : 0.f;
         }

@@ -79,6 +79,12 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
     j["physics"] = {{"prior_nodes", "points"}};
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "only the transport prior has nodes";
+    j["physics"] = {{"prior_visibility", 2.0}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "only the transport prior has visibility";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", -1.0}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 2.0}};
+    EXPECT_EQ(ModelConfig::from_json(j, "ok").to_json()["physics"]["prior_visibility"].get<double>(), 2.0);
 }
 
 TEST(Physics, EmissionLinearityIsExactAndLegacyIsNot) {
@@ -260,6 +266,45 @@ TEST(Physics, TransportPriorOnEveryPointIsTheSolversAndUnitInvariant) {
     anchors.physics.prior_nodes = "anchors";
     // Measured: 9e-6 with every point a node, 4e-4 with the anchors (this fixture's FPS ties flip).
     EXPECT_GT(unit_error(anchors), 5.0 * unit_error(f.cfg));
+}
+
+// prior_visibility: occlusion from the points' voxels (points/point_visibility.h). Still the torch-
+// free solver's number, still exactly linear in emission and (for a power-of-two unit, which maps
+// the voxel grid onto itself) exactly unit-invariant; and it changes the prior.
+TEST(Physics, TransportPriorWithVisibilityIsTheSolversAndKeepsTheSymmetries) {
+    Fixture f;
+    f.cfg.physics.prior_field = "transport";
+    f.cfg.physics.prior_nodes = "points";
+    f.cfg.physics.prior_visibility = 2.f;
+    LtmModel m = make_model(f.cfg, 6);
+    m->decoder->start_at_prior();
+    torch::NoGradGuard no_grad;
+    const SceneGeometry g = m->scene_geometry(f.sp);
+    const SceneNormalization n = scene_normalization(f.sp, g, f.cfg.physics);
+    const auto scale = output_scale(f.qp, n);
+    const auto framed = torch::cat({(f.sp.slice(1, 0, 3) - n.center) / n.length, f.sp.slice(1, 3, 12)}, 1).contiguous();
+    PointSet nodes(scene_point_columns(), size_t(framed.size(0)));
+    nodes.values.assign(framed.data_ptr<float>(), framed.data_ptr<float>() + framed.numel());
+    const Vec3f s(n.emission[0].item<float>(), n.emission[1].item<float>(), n.emission[2].item<float>());
+    const double point_area = k_pi * 2.25 / double(g.groups.size(1));
+    VisibilityOptions vis;
+    vis.voxel = float(2.0 * std::sqrt(point_area));
+    const TransportPrior tp = solve_transport_prior(nodes, float(point_area), f.cfg.physics.prior_bounces, &s, vis);
+    ASSERT_FALSE(tp.visibility.empty());
+    const auto q = normalize_query_points(f.qp, n).contiguous();
+    std::vector<float> expect(size_t(q.size(0)) * 3);
+    gather_transport_prior(tp, q.data_ptr<float>(), q.data_ptr<float>() + 3, 9, size_t(q.size(0)), expect.data());
+    const auto e = torch::maximum(torch::from_blob(expect.data(), {q.size(0), 3}).clone(), 1e-3 * n.output);
+    EXPECT_TRUE(torch::allclose(scale, e, 1e-5, 0.0)) << (scale - e).abs().max();
+
+    ModelConfig free = f.cfg;
+    free.physics.prior_visibility = 0.f;
+    EXPECT_GT(relative_error(output_scale(f.qp, scene_normalization(f.sp, g, free.physics)), scale), 1e-3)
+        << "the occlusion changes the prior";
+    const auto pred = predict(m, f.sp, f.qp);
+    EXPECT_TRUE(torch::allclose(pred, scale, 1e-6, 0.0)) << "start_at_prior: the model is its prior";
+    for (double k : {0.25, 4.0}) EXPECT_TRUE(torch::equal(predict(m, scaled(f.sp, 9, 12, k), f.qp), pred * k)) << k;
+    for (double u : {0.5, 1024.0}) EXPECT_TRUE(torch::equal(predict(m, scaled(f.sp, 0, 3, u), scaled(f.qp, 0, 3, u)), pred)) << u;
 }
 
 TEST(Physics, NormalisationMatchesItsDefinition) {

@@ -64,8 +64,11 @@ struct PhysicsConfig {
     /// is as unit-invariant as the points themselves; on 32 validation houses' views MSE 0.0151 vs
     /// 0.0178 with anchors). Only with prior_field "transport".
     std::string prior_nodes = "anchors";
+    /// Occlusion in the transport prior from the scene points alone (points/point_visibility.h):
+    /// the voxel edge in units of the point spacing √(A/M) (2 is what was measured); 0 = none.
+    float prior_visibility = 0.f;
 
-    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors"}; }
+    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f}; }
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }
 };
 

@@ -17,6 +17,14 @@
 // linear in emission, per colour channel independent, invariant to rotation, translation and to
 // the unit of length when a scales with length² (measured on generated houses: MSE 0.42× the
 // house-wide flat oracle's, scripts/analysis/radiosity_prior.py, docs/results.md).
+//
+// Optional occlusion from the points alone (points/point_visibility.h): Ĝ_ij is multiplied by
+// V(cluster(i), cluster(j)) before each row's normalisation, and the gather likewise — a node's
+// light then reaches only the clusters that see its cluster (the failure it fixes: light through
+// walls). Approximate occlusion breaks the closure that balances power (falsely blocked far nodes
+// leave the rows, near ones gain: lit rooms came out 1.19× too bright), so the result is rescaled
+// per channel to the enclosure's balance: area mean of E⁺ at the nodes = π L̄ Σ_{k=1..D} ρ̄^k.
+// The furnace stays exact.
 #pragma once
 
 #include <cstddef>
@@ -24,6 +32,7 @@
 
 #include "ltm/core/math.h"
 #include "ltm/points/point_set.h"
+#include "ltm/points/point_visibility.h"
 
 namespace ltm {
 
@@ -32,6 +41,7 @@ struct TransportPrior {
     std::vector<Vec3f> position, normal;   ///< [m] nodes (unit normals)
     std::vector<Vec3f> exitance;           ///< [m] Σ_{k=1..D} B_k (W/m² per channel)
     float area = 0.f;                      ///< a: the area each node stands for (same unit² as positions)
+    ClusterVisibility visibility;          ///< empty: no occlusion
 };
 
 /// Solves D bounces among m nodes. position/normal/albedo/radiance: m entries each; node_area > 0.
@@ -39,13 +49,15 @@ struct TransportPrior {
 /// thread count. Throws ltm::Error on mismatched sizes, no nodes, node_area ≤ 0 or bounces < 0.
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
-                                     float node_area, int bounces);
+                                     float node_area, int bounces, ClusterVisibility visibility = {});
 
 /// Every scene point a node: scene_points [M, 12] (scene_point_columns()), node_area = A / M. With
 /// `emission_scale` (S_c = Φ_c/A, exact from the meshes) the points' radiance is rescaled per
-/// channel so that π · mean = S_c (emitters are few points; their count is noisy).
+/// channel so that π · mean = S_c (emitters are few points; their count is noisy). With
+/// vis.voxel > 0, occlusion from the occupancy of `occupancy` (all scene points; null: the nodes).
 TransportPrior solve_transport_prior(const PointSet &scene_points, float node_area, int bounces,
-                                     const Vec3f *emission_scale = nullptr);
+                                     const Vec3f *emission_scale = nullptr, const VisibilityOptions &vis = {},
+                                     const PointSet *occupancy = nullptr);
 
 /// E⁺ at n receivers: position and normal as float arrays [n, 3] (any stride ≥ 3 floats between
 /// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m), deterministic.

@@ -1,0 +1,175 @@
+// point_visibility.cpp: voxel occupancy of the scene points and visibility between node clusters
+// (definitions in the header).
+#include "ltm/points/point_visibility.h"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "ltm/core/error.h"
+#include "ltm/core/parallel.h"
+
+namespace ltm {
+
+namespace {
+// Facing bits of a normal: bit 2a for +axis a, 2a + 1 for −axis a, where |n_a| ≥ 0.25.
+uint8_t facing_bits(Vec3f n) {
+    uint8_t bits = 0;
+    for (int a = 0; a < 3; ++a) {
+        if (n[a] >= 0.25f) bits |= uint8_t(1u << (2 * a));
+        if (n[a] <= -0.25f) bits |= uint8_t(1u << (2 * a + 1));
+    }
+    return bits;
+}
+
+// The facings a segment along unit d meets from the front: a surface facing −a when d_a > 0.05,
+// +a when d_a < −0.05 (within 0.05 it runs along that surface; a steep crossing of a wall, as from
+// a ceiling to the floor of the next room, has |d_a| well above it).
+uint8_t blocking_bits(Vec3f d) {
+    uint8_t bits = 0;
+    for (int a = 0; a < 3; ++a) {
+        if (d[a] > 0.05f) bits |= uint8_t(1u << (2 * a + 1));
+        if (d[a] < -0.05f) bits |= uint8_t(1u << (2 * a));
+    }
+    return bits;
+}
+}  // namespace
+
+VoxelOccupancy::VoxelOccupancy(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float voxel)
+    : m_h(voxel) {
+    if (points.empty()) LTM_THROW("voxel occupancy: no points");
+    if (normals.size() != points.size()) LTM_THROW("voxel occupancy: ", points.size(), " points but ", normals.size(), " normals");
+    if (!(voxel > 0.f) || !std::isfinite(voxel)) LTM_THROW("voxel occupancy: voxel edge must be > 0, got ", voxel);
+    Vec3f lo = points.front(), hi = points.front();
+    for (const Vec3f &p : points) lo = min(lo, p), hi = max(hi, p);
+    m_center = (lo + hi) * 0.5f;
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) {
+        // One spare cell per side: samples just off a surface stay inside.
+        m_half[a] = int(std::ceil(double(hi[a] - lo[a]) * 0.5 / double(m_h))) + 1;
+        cells *= 2.0 * m_half[a];
+    }
+    if (!(cells <= double(1 << 28)))
+        LTM_THROW("voxel occupancy: ", cells, " voxels of edge ", voxel, " (more than 2^28): the voxel is too small for the scene");
+    m_facing.assign(size_t(cells), 0);
+    for (size_t i = 0; i < points.size(); ++i) {
+        int idx[3];
+        for (int a = 0; a < 3; ++a) idx[a] = int(std::floor((points[i][a] - m_center[a]) / m_h)) + m_half[a];
+        m_facing[(size_t(idx[2]) * size_t(2 * m_half[1]) + size_t(idx[1])) * size_t(2 * m_half[0]) + size_t(idx[0])] |=
+            facing_bits(normals[i]);
+    }
+}
+
+uint8_t VoxelOccupancy::facing(Vec3f p) const {
+    if (m_facing.empty()) return 0;
+    int idx[3];
+    for (int a = 0; a < 3; ++a) {
+        const float u = std::floor((p[a] - m_center[a]) / m_h);
+        if (!(u >= float(-m_half[a]) && u < float(m_half[a]))) return 0;
+        idx[a] = int(u) + m_half[a];
+    }
+    return m_facing[(size_t(idx[2]) * size_t(2 * m_half[1]) + size_t(idx[1])) * size_t(2 * m_half[0]) + size_t(idx[0])];
+}
+
+bool VoxelOccupancy::blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const {
+    const Vec3f d = b - a;
+    const float len = length(d);
+    if (!(len > 0.f)) return false;
+    const Vec3f dir = d / len;
+    const uint8_t block = blocking_bits(dir);
+    if (!block) return false;
+    // Within h of an end, that end's own surface does not count (the segment arrives at its front).
+    const uint8_t near_a = uint8_t(block & ~facing_bits(na)), near_b = uint8_t(block & ~facing_bits(nb));
+    const float step = 0.5f * m_h;
+    for (float t = step; t < len; t += step) {
+        const uint8_t mask = t < m_h ? near_a : (t > len - m_h ? near_b : block);
+        if (facing(a + dir * t) & mask) return true;
+    }
+    return false;
+}
+
+int64_t VoxelOccupancy::n_solid() const {
+    int64_t n = 0;
+    for (uint8_t s : m_facing) n += s != 0;
+    return n;
+}
+
+namespace {
+// A segment between two surface points, each lifted h/2 along its normal: a segment along a floor
+// then runs inside the layer of voxels that a wall standing on that floor occupies, whatever the
+// grid's offset (unlifted, it may run beneath the wall's lowest voxel).
+bool lifted_blocked(const VoxelOccupancy &occ, Vec3f a, Vec3f na, Vec3f b, Vec3f nb) {
+    const float lift = 0.5f * occ.voxel();
+    return occ.blocked(a + na * lift, na, b + nb * lift, nb);
+}
+}  // namespace
+
+uint32_t ClusterVisibility::cluster_of(Vec3f p, Vec3f n) const {
+    constexpr size_t k_candidates = 8;
+    // The k nearest facing centres, nearest first (insertion into a short sorted list).
+    std::pair<float, uint32_t> near[k_candidates];
+    size_t found = 0;
+    uint32_t nearest = 0;
+    float d_nearest = std::numeric_limits<float>::infinity();
+    for (size_t c = 0; c < position.size(); ++c) {
+        const Vec3f d = position[c] - p;
+        const float r2 = dot(d, d);
+        if (r2 < d_nearest) d_nearest = r2, nearest = uint32_t(c);
+        if (!(dot(normal[c], n) > 0.f)) continue;
+        if (found == k_candidates && !(r2 < near[k_candidates - 1].first)) continue;
+        size_t i = found < k_candidates ? found++ : k_candidates - 1;
+        for (; i > 0 && r2 < near[i - 1].first; --i) near[i] = near[i - 1];
+        near[i] = {r2, uint32_t(c)};
+    }
+    if (found == 0) return nearest;
+    for (size_t i = 0; i < found; ++i) {
+        const uint32_t c = near[i].second;
+        if (!lifted_blocked(occupancy, p, n, position[c], normal[c])) return c;
+    }
+    return near[0].second;
+}
+
+ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::vector<Vec3f> &nrm, VoxelOccupancy occupancy,
+                                     int clusters) {
+    const size_t m = pos.size();
+    if (m == 0) LTM_THROW("cluster visibility: no nodes");
+    if (nrm.size() != m) LTM_THROW("cluster visibility: ", m, " positions but ", nrm.size(), " normals");
+    if (clusters < 1) LTM_THROW("cluster visibility: clusters must be >= 1, got ", clusters);
+    if (!(occupancy.voxel() > 0.f)) LTM_THROW("cluster visibility: no occupancy grid");
+    ClusterVisibility out;
+    out.occupancy = std::move(occupancy);
+    // Cluster centres: exact farthest point sampling among the nodes from node 0 (as the model's
+    // anchors: a start fixed by index keeps the choice equivariant under rigid motions).
+    const size_t C = std::min(m, size_t(clusters));
+    std::vector<float> dist(m, std::numeric_limits<float>::infinity());
+    size_t last = 0;
+    for (size_t k = 0; k < C; ++k) {
+        out.position.push_back(pos[last]), out.normal.push_back(nrm[last]);
+        float best = -1.f;
+        size_t best_j = 0;
+        for (size_t j = 0; j < m; ++j) {
+            const Vec3f d = pos[j] - pos[last];
+            dist[j] = std::min(dist[j], dot(d, d));
+            if (dist[j] > best) best = dist[j], best_j = j;
+        }
+        last = best_j;
+    }
+    out.node_cluster.resize(m);
+    parallel_for(0, int64_t(m), 256, [&](int64_t b, int64_t e) {
+        for (int64_t j = b; j < e; ++j) out.node_cluster[size_t(j)] = out.cluster_of(pos[size_t(j)], nrm[size_t(j)]);
+    });
+    out.visible.assign(C * C, 0);
+    parallel_for(0, int64_t(C), 4, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            out.visible[size_t(i) * C + size_t(i)] = 1;
+            for (size_t j = size_t(i) + 1; j < C; ++j)
+                out.visible[size_t(i) * C + j] =
+                    !lifted_blocked(out.occupancy, out.position[size_t(i)], out.normal[size_t(i)], out.position[j], out.normal[j]);
+        }
+    });
+    for (size_t i = 0; i < C; ++i)
+        for (size_t j = i + 1; j < C; ++j) out.visible[j * C + i] = out.visible[i * C + j];
+    return out;
+}
+
+}  // namespace ltm
