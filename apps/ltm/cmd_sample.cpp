@@ -13,6 +13,7 @@
 #include "ltm/points/ply_io.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/render/enclosure.h"
+#include "ltm/render/scene_points.h"
 #include "ltm/scene/scene_io.h"
 
 namespace ltm::cli {
@@ -21,7 +22,7 @@ namespace {
 struct SampleArgs {
     std::string scene, output;
     int64_t scene_points = 8192, query_points = 65536;
-    bool exclude_enclosed = false, ascii = false;
+    bool exclude_enclosed = true, ascii = false;   // as the dataset and the neural renderer
 };
 
 void check_count(int64_t n, const char *flag) {
@@ -39,8 +40,9 @@ Command make_sample_command() {
         sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
         sub.add_option("-M,--scene-points", a->scene_points, "Scene points (p, n, albedo, emission)")->capture_default_str();
         sub.add_option("-N,--query-points", a->query_points, "Query points (p, n, albedo)")->capture_default_str();
-        sub.add_flag("--exclude-enclosed", a->exclude_enclosed,
-                     "Drop points inside closed solids (floor under carpets/furniture); see docs/formats.md");
+        sub.add_flag("--exclude-enclosed,!--keep-enclosed", a->exclude_enclosed,
+                     "Drop points inside closed solids (floor under carpets/furniture; the default, as the dataset "
+                     "and the neural renderer do); --keep-enclosed keeps them; see docs/formats.md");
         sub.add_flag("--ascii", a->ascii, "Write ASCII PLY instead of binary little-endian");
         sub.add_option("-o,--output", a->output, "Output directory")->required();
     };
@@ -49,14 +51,12 @@ Command make_sample_command() {
         check_count(a->query_points, "--query-points");
         const Scene scene = load_scene(a->scene);
         const auto t0 = std::chrono::steady_clock::now();
-        std::unique_ptr<EmbreeAccel> accel;
+        // The scene points come from the one recipe the dataset and the neural renderer use
+        // (render/scene_points.h), so a model fed these PLY files sees what it was trained on.
+        const EmbreeAccel accel(scene);
+        const PointSet scene_pts = sample_scene_points(accel, a->scene_points, common.seed, a->exclude_enclosed).points;
         SampleFilter filter;
-        if (a->exclude_enclosed) {
-            accel = std::make_unique<EmbreeAccel>(scene);
-            filter = enclosed_filter(*accel);
-        }
-        const PointSet scene_pts = to_scene_points(
-            sample_surface(scene, a->scene_points, common.seed, SampleStream::scene_points, filter));
+        if (a->exclude_enclosed) filter = enclosed_filter(accel);
         const PointSet query_pts = to_query_points(
             sample_surface(scene, a->query_points, common.seed, SampleStream::query_points, filter));
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

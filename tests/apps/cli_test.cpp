@@ -8,6 +8,8 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/image.h"
 #include "ltm/points/ply_io.h"
+#include "ltm/render/embree_accel.h"
+#include "ltm/render/scene_points.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/scene_io.h"
 #include "test_util.h"
@@ -36,11 +38,21 @@ TEST(Cli, GenerateSamplePreviewSmoke) {
     auto r = run({"generate", "--seed", "7", "-o", scene, "--quiet"});
     ASSERT_EQ(r.code, 0) << r.err;
     r = run({"sample", scene, "--scene-points", "2000", "--query-points", "3000", "--seed", "1", "-o", pts,
-             "--exclude-enclosed", "--threads", "2"});
+             "--threads", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(read_ply(pts + "/scene_points.ply").select(scene_point_columns(), "").size(), 2000u);
+    const PointSet sampled = read_ply(pts + "/scene_points.ply").select(scene_point_columns(), "");
+    EXPECT_EQ(sampled.size(), 2000u);
+    // The renderer's and the dataset's scene points (render/scene_points.h), exclusion on by default.
+    const Scene loaded = load_scene(scene);   // EmbreeAccel keeps a reference to it
+    const EmbreeAccel accel(loaded);
+    EXPECT_EQ(sampled.values, sample_scene_points(accel, 2000, 1, true).points.values);
     EXPECT_EQ(read_ply(pts + "/query_points.ply").select(query_point_columns(), "").size(), 3000u);
     EXPECT_NE(read_file(pts + "/sample.json").find("\"exclude_enclosed\": true"), std::string::npos);
+    r = run({"sample", scene, "--scene-points", "2000", "--query-points", "30", "--seed", "1", "-o", dir.path("keep"),
+             "--keep-enclosed", "--quiet"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(read_ply(dir.path("keep") + "/scene_points.ply").select(scene_point_columns(), "").values,
+              sample_scene_points(accel, 2000, 1, false).points.values);
     r = run({"preview", scene, "-o", png, "--width", "64", "--height", "48"});
     ASSERT_EQ(r.code, 0) << r.err;
     const Image img = read_image(png, /*srgb=*/false);
