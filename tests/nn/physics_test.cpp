@@ -60,6 +60,7 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
         EXPECT_EQ(c.to_json()["physics"].contains("prior_field"), tp) << "written only when not flat: " << name;
         EXPECT_EQ(c.physics.prior_nodes, tp ? "points" : "anchors") << name;
         EXPECT_EQ(c.to_json()["physics"].contains("prior_nodes"), tp) << "written only when not anchors: " << name;
+        EXPECT_EQ(c.physics.prior_visibility, tp ? 2.f : 0.f) << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
     Json j = parse_json(ModelConfig::from_file(test::source_path("configs/model/tiny.json")).to_json().dump(), "t");
