@@ -50,7 +50,8 @@ VoxelOccupancy::VoxelOccupancy(const std::vector<Vec3f> &points, const std::vect
         cells *= 2.0 * m_half[a];
     }
     if (!(cells <= double(1 << 28)))
-        LTM_THROW("voxel occupancy: ", cells, " voxels of edge ", voxel, " (more than 2^28): the voxel is too small for the scene");
+        LTM_THROW("voxel occupancy: the scene is too large for the prior's voxel grid (", cells, " voxels of edge ", voxel,
+                  ", at most 2^28)");
     m_facing.assign(size_t(cells), 0);
     for (size_t i = 0; i < points.size(); ++i) {
         int idx[3];
