@@ -48,7 +48,8 @@ PointSet scene_point_table(const torch::Tensor &rows) {
 // (20–130 of 8 192 points), so the solver rescales the nodes' emission per channel to
 // π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp that FPS
 // missed) uses every scene point as a node instead. With prior_visibility, occlusion from the
-// voxels of every scene point (points/point_visibility.h), edge prior_visibility · √(π (3/2)² / k).
+// voxels of every scene point (points/point_visibility.h), edge prior_visibility × the points' own
+// spacing (measured from them, so the grid does not move with ℓ).
 std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
                                                       const SceneNormalization &n, const PhysicsConfig &physics) {
     torch::NoGradGuard no_grad;
@@ -61,7 +62,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
     const auto e = n.emission.to(torch::kCPU, torch::kFloat32);
     const Vec3f s(e[0].item<float>(), e[1].item<float>(), e[2].item<float>());
     VisibilityOptions vis;
-    vis.voxel = float(double(physics.prior_visibility) * std::sqrt(point_area));   // in units of the spacing √(A/M)
+    vis.voxel_spacings = physics.prior_visibility;   // in units of the points' own spacing: free of ℓ's FPS ties
     const PointSet all = scene_point_table(framed);
     return std::make_shared<const TransportPrior>(
         solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all));

@@ -89,6 +89,32 @@ bool VoxelOccupancy::blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const {
     return false;
 }
 
+float point_spacing(const std::vector<Vec3f> &points) {
+    constexpr size_t k = 8;
+    const size_t m = points.size();
+    if (m <= k) LTM_THROW("point spacing: ", m, " points (needs more than ", k, ")");
+    std::vector<double> r2(m);
+    parallel_for(0, int64_t(m), 64, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            float best[k];   // the k smallest squared distances, ascending
+            for (float &v : best) v = std::numeric_limits<float>::infinity();
+            for (size_t j = 0; j < m; ++j) {
+                if (j == size_t(i)) continue;
+                const Vec3f d = points[j] - points[size_t(i)];
+                const float q = dot(d, d);
+                if (!(q < best[k - 1])) continue;
+                size_t s = k - 1;
+                for (; s > 0 && q < best[s - 1]; --s) best[s] = best[s - 1];
+                best[s] = q;
+            }
+            r2[size_t(i)] = double(best[k - 1]);
+        }
+    });
+    double sum = 0;
+    for (double v : r2) sum += v;   // fixed order: the same at any thread count
+    return float(std::sqrt(k_pi * sum / double(m) / double(k)));
+}
+
 int64_t VoxelOccupancy::n_solid() const {
     int64_t n = 0;
     for (uint8_t s : m_facing) n += s != 0;

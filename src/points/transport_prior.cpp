@@ -166,7 +166,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         for (auto &l : le) l = l * gain;
     }
     ClusterVisibility v;
-    if (vis.voxel > 0.f) {
+    if (vis.voxel > 0.f || vis.voxel_spacings > 0.f) {
         std::vector<Vec3f> op, on;
         if (occupancy) {
             if (occupancy->columns != scene_point_columns()) LTM_THROW("transport prior: occupancy is not a scene point table");
@@ -177,7 +177,8 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         } else {
             op = p, on = n;
         }
-        v = cluster_visibility(p, n, VoxelOccupancy(op, on, vis.voxel), vis.clusters);
+        const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * point_spacing(op);
+        v = cluster_visibility(p, n, VoxelOccupancy(op, on, h), vis.clusters);
     }
     return solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v));
 }

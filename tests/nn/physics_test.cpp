@@ -289,7 +289,7 @@ TEST(Physics, TransportPriorWithVisibilityIsTheSolversAndKeepsTheSymmetries) {
     const Vec3f s(n.emission[0].item<float>(), n.emission[1].item<float>(), n.emission[2].item<float>());
     const double point_area = k_pi * 2.25 / double(g.groups.size(1));
     VisibilityOptions vis;
-    vis.voxel = float(2.0 * std::sqrt(point_area));
+    vis.voxel_spacings = 2.f;
     const TransportPrior tp = solve_transport_prior(nodes, float(point_area), f.cfg.physics.prior_bounces, &s, vis);
     ASSERT_FALSE(tp.visibility.empty());
     const auto q = normalize_query_points(f.qp, n).contiguous();

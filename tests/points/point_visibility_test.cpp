@@ -151,6 +151,20 @@ TEST(PointVisibility, SymmetricUnderTheTrainingSymmetriesAndTheUnit) {
     EXPECT_EQ(one, e);
 }
 
+// The spacing of a regular grid of pitch s: the 8th neighbour of an interior point is at s·√2
+// (4 at s, 4 at s√2), so √(π · 2s² / 8) = s·√(π/4); ×3 with the unit; no ties matter.
+TEST(PointVisibility, PointSpacingOfAGrid) {
+    std::vector<Vec3f> grid;
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) grid.emplace_back(0.1f * float(i), 0.f, 0.1f * float(j));
+    const float s = point_spacing(grid);
+    EXPECT_GT(s, 0.1f * std::sqrt(float(k_pi) / 4.f));   // edge points have farther 8th neighbours
+    EXPECT_LT(s, 0.1f * std::sqrt(float(k_pi) / 4.f) * 1.08f);
+    for (auto &p : grid) p = p * 3.f;
+    EXPECT_NEAR(point_spacing(grid), 3.f * s, 1e-5f * s);
+    EXPECT_THROW(point_spacing(std::vector<Vec3f>(8, Vec3f(0.f))), Error);
+}
+
 TEST(PointVisibility, BadInputIsAnError) {
     const Points pts = two_rooms(false);
     const VoxelOccupancy occ(pts.p, pts.n, 0.3f);

@@ -65,7 +65,8 @@ struct PhysicsConfig {
     /// 0.0178 with anchors). Only with prior_field "transport".
     std::string prior_nodes = "anchors";
     /// Occlusion in the transport prior from the scene points alone (points/point_visibility.h):
-    /// the voxel edge in units of the point spacing √(A/M) (2 is what was measured); 0 = none.
+    /// the voxel edge in units of the points' own spacing (point_spacing: ≈ √(A/M); 2 is what was
+    /// measured); 0 = none.
     float prior_visibility = 0.f;
 
     static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f}; }
