@@ -22,6 +22,9 @@ class EmbreeAccel {
 public:
     /// Builds a BVH over all meshes (geometry id = mesh index). Keeps a reference to `scene`.
     explicit EmbreeAccel(const Scene &scene);
+    /// A temporary scene would dangle (the accel keeps a reference): EmbreeAccel(load_scene(f))
+    /// does not compile — keep the Scene in a variable.
+    explicit EmbreeAccel(Scene &&) = delete;
     ~EmbreeAccel();
     EmbreeAccel(const EmbreeAccel &) = delete;
     EmbreeAccel &operator=(const EmbreeAccel &) = delete;
