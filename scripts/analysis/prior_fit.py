@@ -24,6 +24,15 @@ def read_safetensors(path):
         out[k] = np.frombuffer(data[a:b], dtype=np.float32).reshape(v['shape'])
     return out
 
+def print_summary(rows, header, width=8):
+    """One line per prior: MSE/flat (median, geomean, share < 1) | level (geomean, share in [0.8, 1.25])."""
+    print(header)
+    for k, v in rows.items():
+        rr, lv = np.array([x[0] for x in v]), np.array([x[1] for x in v])
+        print(f'{k:{width}s} {np.median(rr):7.3f} {np.exp(np.log(rr).mean()):7.3f} {np.mean(rr < 1):.2f} | '
+              f'{np.exp(np.log(lv).mean()):.3f} {np.mean((lv > 0.8) & (lv < 1.25)):.2f}')
+
+
 def pb(rho, D=5):
     r = np.clip(rho, 0, 1)
     return sum(r ** k for k in range(1, D + 1))

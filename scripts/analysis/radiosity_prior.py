@@ -16,7 +16,7 @@ Usage: python3 radiosity_prior.py DIR [max_records] [bounces]
 """
 import os, sys
 import numpy as np
-from prior_fit import read_safetensors, pb
+from prior_fit import read_safetensors, pb, print_summary
 
 
 def transfer(pr, nr, ps, ns, a, chunk=1024):
@@ -80,12 +80,7 @@ def main():
             rows[k].append((((v - E) ** 2).mean() / flat, v.mean() / E.mean()))
             line.append(f'{k} {rows[k][-1][0]:.2f}/{rows[k][-1][1]:.2f}')
         print(f, 'a=%.4f' % a, ' '.join(line), flush=True)
-    print(f'{len(files)} records; MSE/flat (median, geomean, share<1) | level (geomean, share in [0.8,1.25])')
-    for k, v in rows.items():
-        rr, lv = np.array([x[0] for x in v]), np.array([x[1] for x in v])
-        print(f'{k:8s} {np.median(rr):7.3f} {np.exp(np.log(rr).mean()):7.3f} {np.mean(rr < 1):.2f} | '
-              f'{np.exp(np.log(lv).mean()):.3f} {np.mean((lv > 0.8) & (lv < 1.25)):.2f}')
-
+    print_summary(rows, f'{len(files)} records; MSE/flat (median, geomean, share<1) | level (geomean, share in [0.8,1.25])', width=8)
 
 if __name__ == '__main__':
     main()

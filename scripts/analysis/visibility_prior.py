@@ -14,7 +14,7 @@ Usage: python3 visibility_prior.py DIR [max_records] [nodes] [c]
 """
 import os, sys, time
 import numpy as np
-from prior_fit import read_safetensors
+from prior_fit import read_safetensors, print_summary
 
 
 def transfer(pr, nr, ps, ns, a):
@@ -123,12 +123,7 @@ def main():
             res[name].append((((pred - E) ** 2).mean() / flat, pred.mean() / E.mean()))
             line.append(f'{name} {res[name][-1][0]:.3f}/{res[name][-1][1]:.2f}')
         print(f, f'h={h:.3f} solid voxels {grid.occ.sum()} ', ' '.join(line), f'{time.time() - t0:.0f}s', flush=True)
-    print(f'{len(files)} records, {N} nodes, c={c}; MSE/flat (median, geomean, share<1) | level (geomean, in band)')
-    for k, v in res.items():
-        rr, lv = np.array([x[0] for x in v]), np.array([x[1] for x in v])
-        print(f'{k:6s} {np.median(rr):7.3f} {np.exp(np.log(rr).mean()):7.3f} {np.mean(rr < 1):.2f} | '
-              f'{np.exp(np.log(lv).mean()):.3f} {np.mean((lv > 0.8) & (lv < 1.25)):.2f}')
-
+    print_summary(res, f'{len(files)} records, {N} nodes, c={c}; MSE/flat (median, geomean, share<1) | level (geomean, in band)', width=6)
 
 if __name__ == '__main__':
     main()

@@ -8,6 +8,8 @@
 
 #include <nanoflann.hpp>
 
+#include "ltm/points/farthest_points.h"
+
 namespace ltm {
 
 namespace {
@@ -88,25 +90,8 @@ torch::Tensor farthest_point_sampling(const torch::Tensor &pos, int64_t m) {
         return out;
     }
     const auto p = pos.contiguous();
-    const float *x = p.data_ptr<float>();
-    std::vector<float> dist(size_t(M), std::numeric_limits<float>::infinity());
-    auto out = torch::empty({m}, torch::kInt64);
-    int64_t *o = out.data_ptr<int64_t>();
-    int64_t last = 0;
-    o[0] = 0;
-    for (int64_t i = 1; i < m; ++i) {
-        const float lx = x[3 * last], ly = x[3 * last + 1], lz = x[3 * last + 2];
-        float best = -1.f;
-        int64_t best_j = 0;
-        for (int64_t j = 0; j < M; ++j) {
-            const float dx = x[3 * j] - lx, dy = x[3 * j + 1] - ly, dz = x[3 * j + 2] - lz;
-            const float d = std::min(dist[size_t(j)], dx * dx + dy * dy + dz * dz);
-            dist[size_t(j)] = d;
-            if (d > best) best = d, best_j = j;   // strict: ties keep the lower index
-        }
-        o[i] = last = best_j;
-    }
-    return out;
+    const std::vector<int64_t> idx = farthest_points(p.data_ptr<float>(), size_t(M), size_t(m));   // points/farthest_points.h
+    return torch::tensor(idx, torch::kInt64);
 }
 
 }  // namespace ltm

@@ -8,6 +8,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
+#include "ltm/points/farthest_points.h"
 
 namespace ltm {
 
@@ -53,23 +54,22 @@ VoxelOccupancy::VoxelOccupancy(const std::vector<Vec3f> &points, const std::vect
         LTM_THROW("voxel occupancy: the scene is too large for the prior's voxel grid (", cells, " voxels of edge ", voxel,
                   ", at most 2^28)");
     m_facing.assign(size_t(cells), 0);
-    for (size_t i = 0; i < points.size(); ++i) {
-        int idx[3];
-        for (int a = 0; a < 3; ++a) idx[a] = int(std::floor((points[i][a] - m_center[a]) / m_h)) + m_half[a];
-        m_facing[(size_t(idx[2]) * size_t(2 * m_half[1]) + size_t(idx[1])) * size_t(2 * m_half[0]) + size_t(idx[0])] |=
-            facing_bits(normals[i]);
+    for (size_t i = 0; i < points.size(); ++i) m_facing[size_t(cell(points[i]))] |= facing_bits(normals[i]);
+}
+
+int64_t VoxelOccupancy::cell(Vec3f p) const {
+    int64_t index = 0;
+    for (int a = 2; a >= 0; --a) {
+        const float u = std::floor((p[a] - m_center[a]) / m_h);
+        if (!(u >= float(-m_half[a]) && u < float(m_half[a]))) return -1;
+        index = index * (2 * m_half[a]) + int64_t(u) + m_half[a];
     }
+    return index;
 }
 
 uint8_t VoxelOccupancy::facing(Vec3f p) const {
-    if (m_facing.empty()) return 0;
-    int idx[3];
-    for (int a = 0; a < 3; ++a) {
-        const float u = std::floor((p[a] - m_center[a]) / m_h);
-        if (!(u >= float(-m_half[a]) && u < float(m_half[a]))) return 0;
-        idx[a] = int(u) + m_half[a];
-    }
-    return m_facing[(size_t(idx[2]) * size_t(2 * m_half[1]) + size_t(idx[1])) * size_t(2 * m_half[0]) + size_t(idx[0])];
+    const int64_t c = m_facing.empty() ? -1 : cell(p);
+    return c < 0 ? 0 : m_facing[size_t(c)];
 }
 
 bool VoxelOccupancy::blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const {
@@ -168,19 +168,9 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
     // Cluster centres: exact farthest point sampling among the nodes from node 0 (as the model's
     // anchors: a start fixed by index keeps the choice equivariant under rigid motions).
     const size_t C = std::min(m, size_t(clusters));
-    std::vector<float> dist(m, std::numeric_limits<float>::infinity());
-    size_t last = 0;
-    for (size_t k = 0; k < C; ++k) {
-        out.position.push_back(pos[last]), out.normal.push_back(nrm[last]);
-        float best = -1.f;
-        size_t best_j = 0;
-        for (size_t j = 0; j < m; ++j) {
-            const Vec3f d = pos[j] - pos[last];
-            dist[j] = std::min(dist[j], dot(d, d));
-            if (dist[j] > best) best = dist[j], best_j = j;
-        }
-        last = best_j;
-    }
+    static_assert(sizeof(Vec3f) == 3 * sizeof(float), "Vec3f rows are read as float triples");
+    for (const int64_t j : farthest_points(&pos[0].x, m, C))
+        out.position.push_back(pos[size_t(j)]), out.normal.push_back(nrm[size_t(j)]);
     out.node_cluster.resize(m);
     parallel_for(0, int64_t(m), 256, [&](int64_t b, int64_t e) {
         for (int64_t j = b; j < e; ++j) out.node_cluster[size_t(j)] = out.cluster_of(pos[size_t(j)], nrm[size_t(j)]);

@@ -10,6 +10,12 @@
 
 namespace ltm {
 
+double bounce_series(double rho, int bounces) {
+    double term = 1, series = 0;
+    for (int k = 0; k < bounces; ++k) series += (term *= rho);
+    return series;
+}
+
 std::array<double, 3> power_balance_irradiance(const PointSet &sp, int bounces, const Vec3f *emission_scale) {
     if (sp.columns != scene_point_columns()) LTM_THROW("power_balance_irradiance: not a scene point table");
     if (sp.size() == 0) LTM_THROW("power_balance_irradiance: no scene points");
@@ -19,10 +25,8 @@ std::array<double, 3> power_balance_irradiance(const PointSet &sp, int bounces, 
         for (size_t c = 0; c < 3; ++c) rho[c] += double(sp.at(i, 6 + c)), e[c] += double(sp.at(i, 9 + c));
     for (size_t c = 0; c < 3; ++c) {
         const double r = std::clamp(rho[c] / double(sp.size()), 0.0, 1.0);
-        double term = 1, series = 0;
-        for (int k = 0; k < bounces; ++k) series += (term *= r);
         const double s = emission_scale ? double((*emission_scale)[int(c)]) : double(k_pi) * e[c] / double(sp.size());
-        out[c] = s * series;
+        out[c] = s * bounce_series(r, bounces);
     }
     return out;
 }

@@ -6,6 +6,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
+#include "ltm/points/power_balance.h"
 
 namespace ltm {
 
@@ -139,9 +140,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
             mean_rho += albedo[i] / float(m), mean_le += radiance[i] / float(m);
         }
         for (int c = 0; c < 3; ++c) {
-            double series = 0, term = 1;
-            for (int k = 0; k < bounces; ++k) series += (term *= double(mean_rho[c]));
-            const double target = k_pi * double(mean_le[c]) * series;
+            const double target = k_pi * double(mean_le[c]) * bounce_series(double(mean_rho[c]), bounces);
             const float gain = mean_e[c] > 0.f ? float(target / double(mean_e[c])) : 0.f;
             for (size_t j = 0; j < m; ++j) out.exitance[j][c] *= gain;
         }

@@ -46,6 +46,8 @@ public:
     int64_t n_solid() const;
 
 private:
+    /// Linear index of the voxel holding p (x fastest), or −1 outside the grid.
+    int64_t cell(Vec3f p) const;
     Vec3f m_center{0.f};
     float m_h = 0.f;
     int m_half[3] = {0, 0, 0};   ///< cells per half-axis: index = floor((p − centre)/h) + half

@@ -22,6 +22,9 @@
 
 namespace ltm {
 
+/// Σ_{k=1..D} ρ^k: the bounce series of the balance (ρ as given; callers clamp it).
+double bounce_series(double rho, int bounces);
+
 /// scene_points [M, 12] (scene_point_columns()) -> Ē⁺ per channel (W/m²). bounces D >= 0.
 /// S = π · mean emission of the points, or `emission_scale` when given (scene_emission_scale()).
 std::array<double, 3> power_balance_irradiance(const PointSet &scene_points, int bounces,
