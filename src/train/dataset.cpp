@@ -17,6 +17,7 @@
 #include "ltm/render/bake.h"
 #include "ltm/render/enclosure.h"
 #include "ltm/render/scene_points.h"
+#include "ltm/render/view_samples.h"
 
 namespace fs = std::filesystem;
 
@@ -33,11 +34,13 @@ DataPreset DataPreset::from_json(const Json &j, const std::string &where) {
     p.max_depth = o.get_int("max_depth", p.max_depth);
     p.exclude_enclosed = o.get_bool("exclude_enclosed", p.exclude_enclosed);
     p.generator = o.get_string("generator", p.generator);
+    p.camera_queries = o.get_float("camera_queries", p.camera_queries);
     o.finish();
     if (p.scene_points < 16 || p.scene_points > k_max_sample_count) LTM_THROW(o.where("scene_points"), ": out of range");
     if (p.query_points < 1 || p.query_points > k_max_sample_count) LTM_THROW(o.where("query_points"), ": out of range");
     if (p.spp < 1 || p.test_spp < 1) LTM_THROW(o.where("spp"), ": spp and test_spp must be >= 1");
     if (p.max_depth < 1) LTM_THROW(o.where("max_depth"), ": must be >= 1");
+    if (!(p.camera_queries >= 0.f && p.camera_queries <= 1.f)) LTM_THROW(o.where("camera_queries"), ": must be in [0, 1]");
     return p;
 }
 
@@ -46,7 +49,7 @@ DataPreset DataPreset::from_file(const std::string &path) { return from_json(par
 OrderedJson DataPreset::to_json() const {
     return {{"name", name}, {"scene_points", scene_points}, {"query_points", query_points}, {"spp", spp},
             {"test_spp", test_spp}, {"max_depth", max_depth}, {"exclude_enclosed", exclude_enclosed},
-            {"generator", generator}};
+            {"generator", generator}, {"camera_queries", camera_queries}};
 }
 
 std::string record_file_name(uint64_t seed) {
@@ -133,6 +136,17 @@ std::vector<std::string> list_records(const std::vector<std::string> &dirs) {
 }
 
 namespace {
+/// The preset's query points: round(camera_queries·N) seen through the cameras, the rest
+/// area-uniform (independent sample streams), view points last.
+std::vector<SurfaceSample> sample_queries(const EmbreeAccel &accel, const DataPreset &p, uint64_t seed, const SampleFilter &filter) {
+    const int64_t n_view = std::llround(double(p.camera_queries) * p.query_points), n_area = p.query_points - n_view;
+    std::vector<SurfaceSample> q;
+    if (n_area > 0) q = sample_surface(accel.scene(), n_area, seed, SampleStream::query_points, filter);
+    const std::vector<SurfaceSample> v = sample_view_points(accel, n_view, seed);
+    q.insert(q.end(), v.begin(), v.end());
+    return q;
+}
+
 SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed, bool test) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
@@ -146,7 +160,7 @@ SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed
     ScenePoints sampled = sample_scene_points(accel, p.scene_points, seed, p.exclude_enclosed);
     r.scene_points = std::move(sampled.points);
     r.emission_scale = sampled.emission_scale;
-    r.query_points = to_query_points(sample_surface(g.scene, p.query_points, seed, SampleStream::query_points, filter));
+    r.query_points = to_query_points(sample_queries(accel, p, seed, filter));
     const auto t2 = clock::now();
     BakeSettings bs;
     bs.spp = test ? p.test_spp : p.spp;

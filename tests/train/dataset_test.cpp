@@ -7,6 +7,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/math.h"
 #include "ltm/points/safetensors.h"
+#include "ltm/procgen/indoor_generator.h"
 #include "ltm/train/dataset.h"
 #include "test_util.h"
 
@@ -68,6 +69,30 @@ TEST(Dataset, BuildWritesRecordsAndSkipsExistingOnes) {
     EXPECT_EQ(std::filesystem::last_write_time(records[0]), before);
     EXPECT_EQ(list_records(opt.out_dir).size(), 3u);
     EXPECT_NE(read_file(opt.out_dir + "/manifest.json").find("scene-000005.safetensors"), std::string::npos);
+}
+
+// camera_queries: that share of the queries (the last ones) is seen by the house's camera — all face
+// it — while area-uniform queries include surfaces turned away from it.
+TEST(Dataset, CameraQueriesAreSeenByTheCamera) {
+    test::TempDir dir;
+    BuildOptions opt;
+    opt.preset = small_preset();
+    opt.preset.camera_queries = 0.25f;
+    opt.seeds = {3};
+    opt.out_dir = dir.path("data");
+    build_dataset(opt);
+    const SceneRecord r = read_record(list_records(opt.out_dir)[0]);
+    EXPECT_EQ(r.metadata["preset"]["camera_queries"], 0.25);
+    const Vec3f eye = generate_indoor(GenConfig{}, 3).scene.cameras.at(0).eye;
+    ASSERT_EQ(r.query_points.size(), 512u);
+    int facing_area = 0;
+    for (size_t i = 0; i < r.query_points.size(); ++i) {
+        const bool facing = dot(r.query_points.vec3(i, 3), eye - r.query_points.vec3(i, 0)) > 0.f;
+        if (i >= 384) EXPECT_TRUE(facing) << "view query " << i;
+        else facing_area += facing;
+    }
+    EXPECT_LT(facing_area, 384 * 9 / 10);
+    EXPECT_THROW(DataPreset::from_json(parse_json(R"({"camera_queries": 1.5})", "p.json"), "p.json"), Error);
 }
 
 // Several directories (e.g. two presets) merge into one seed-ordered list; a seed twice is an error.

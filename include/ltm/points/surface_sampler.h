@@ -18,7 +18,7 @@ struct SurfaceSample {
 };
 
 /// Independent sample streams of one scene (different points for the same seed).
-enum class SampleStream : uint64_t { scene_points = 1, query_points = 2 };
+enum class SampleStream : uint64_t { scene_points = 1, query_points = 2, view_points = 3 };
 
 /// Largest point count one call accepts (memory guard: 48 bytes per sample).
 inline constexpr int64_t k_max_sample_count = 50'000'000;

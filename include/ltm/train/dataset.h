@@ -26,6 +26,9 @@ struct DataPreset {
     int test_spp = 4096;          ///< samples per point with --test (held-out references)
     int max_depth = 5;            ///< scattering events after the point (paper: 5)
     bool exclude_enclosed = true; ///< drop points inside closed solids (docs/formats.md)
+    /// Share of the query points drawn through the scene's cameras (render/view_samples.h) rather
+    /// than area-uniformly: 0 = all area-uniform (the paper), 1 = all where a camera looks.
+    float camera_queries = 0.f;
     std::string generator;        ///< generator config file ("" = built-in defaults)
 
     static DataPreset from_json(const Json &j, const std::string &where);
