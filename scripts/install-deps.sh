@@ -13,7 +13,7 @@ packages=(
 )
 # libtorch is needed only for the model layers (LTM_WITH_TORCH=ON, the default).
 if [[ "${LTM_WITH_TORCH:-ON}" != "OFF" ]]; then
-  packages+=(libtorch-dev libopenblas0-pthread)
+  packages+=(libtorch-dev libopenblas0-pthread libgloo-dev)   # gloo: c10d data-parallel training
 fi
 
 missing=()

@@ -1,9 +1,14 @@
 // cmd_train.cpp: `ltm train --model configs/model/cpu.json --data DIR [--data DIR2 ...] --out runs/NAME [--resume]`.
+// Data-parallel: `--nproc N` launches N local ranks; a process started with torchrun's variables
+// (WORLD_SIZE, RANK, ...; e.g. by torchrun or srun) joins that group instead.
+#include <cstdlib>
 #include <memory>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "rank_launcher.h"
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/train/trainer.h"
@@ -17,7 +22,52 @@ struct TrainArgs {
     bool start_at_prior = false;
     bool resume = false;
     int steps = -1;
+    int nproc = 1;
+    double dist_timeout = 300.0;
 };
+
+// The command line one rank of `--nproc` runs: these arguments without --nproc, with its share of
+// the threads.
+std::vector<std::string> rank_args(const TrainArgs &a, const CommonOptions &common, int threads) {
+    std::vector<std::string> v = {"train", "--model", a.model, "--out", a.out, "--device", a.device, "--threads",
+                                  std::to_string(threads), "--seed", std::to_string(common.seed),
+                                  "--dist-timeout", std::to_string(a.dist_timeout)};
+    for (const auto &d : a.data) v.insert(v.end(), {"--data", d});
+    for (const auto &d : a.val_data) v.insert(v.end(), {"--val-data", d});
+    for (const auto &o : a.overrides) v.insert(v.end(), {"--set", o});
+    if (!a.config.empty()) v.insert(v.end(), {"--config", a.config});
+    if (!a.init.empty()) v.insert(v.end(), {"--init", a.init});
+    if (a.steps > 0) v.insert(v.end(), {"--steps", std::to_string(a.steps)});
+    if (a.resume) v.push_back("--resume");
+    if (a.start_at_prior) v.push_back("--start-at-prior");
+    if (common.quiet) v.push_back("--quiet");
+    if (common.verbose) v.push_back("--verbose");
+    return v;
+}
+
+// torchrun's variables, when WORLD_SIZE is set (else a group of one).
+DistSettings settings_from_environment(double timeout_s) {
+    DistSettings s;
+    s.timeout_s = timeout_s;
+    const char *ws = std::getenv("WORLD_SIZE");
+    if (!ws) return s;
+    auto integer = [](const char *name, const char *fallback) {
+        const char *v = std::getenv(name);
+        const std::string text = v ? v : (fallback ? fallback : "");
+        if (text.empty()) LTM_THROW("WORLD_SIZE is set but ", name, " is not (torchrun sets RANK, WORLD_SIZE, MASTER_ADDR, MASTER_PORT)");
+        char *end = nullptr;
+        const long x = std::strtol(text.c_str(), &end, 10);
+        if (*end != '\0' || end == text.c_str()) LTM_THROW(name, "=", text, ": not an integer");
+        return int(x);
+    };
+    s.world_size = integer("WORLD_SIZE", nullptr);
+    s.rank = integer("RANK", nullptr);
+    s.local_rank = integer("LOCAL_RANK", "0");
+    s.master_port = integer("MASTER_PORT", "29500");
+    const char *addr = std::getenv("MASTER_ADDR");
+    s.master_addr = addr && *addr ? addr : "127.0.0.1";
+    return s;
+}
 }  // namespace
 
 Command make_train_command() {
@@ -40,8 +90,23 @@ Command make_train_command() {
                      "Zero the decoder's output layer after --init (or at a fresh start): the model starts as its prior "
                      "(E⁺ = output scale, e.g. physics.prior_field \"transport\") and learns the correction");
         sub.add_option("--device", a->device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
+        sub.add_option("--nproc", a->nproc,
+                       "Data-parallel ranks to launch on this machine (torchrun's variables; scenes_per_step must be a "
+                       "multiple); a process started with WORLD_SIZE/RANK set joins that group instead")
+            ->capture_default_str()->check(CLI::Range(1, 256));
+        sub.add_option("--dist-timeout", a->dist_timeout, "Seconds to wait for the other ranks (rendezvous, each collective)")
+            ->capture_default_str()->check(CLI::PositiveNumber);
     };
     c.run = [a](const CommonOptions &common) {
+        if (a->nproc > 1) {
+            if (std::getenv("WORLD_SIZE")) LTM_THROW("--nproc: this process is already a rank (WORLD_SIZE is set)");
+            const int cores = common.threads > 0 ? common.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+            launch_local_ranks(a->nproc, rank_args(*a, common, std::max(1, cores / a->nproc)));
+            return;
+        }
+        const DistSettings dist = settings_from_environment(a->dist_timeout);
+        // Rank 0 speaks for the group; the others say only warnings and errors.
+        if (dist.rank != 0 && !common.verbose) set_log_level(LogLevel::quiet);
         Json cfg = a->config.empty() ? Json(TrainConfig{}.to_json()) : parse_json_file(a->config);
         cfg["seed"] = common.seed;
         if (a->steps > 0) cfg["steps"] = a->steps;
@@ -62,6 +127,12 @@ Command make_train_command() {
             if (a->resume) LTM_THROW("--start-at-prior and --resume exclude each other (a resumed run has its own weights)");
             trainer.model()->decoder->start_at_prior();
             log_info("decoder output zeroed: the model starts as its prior");
+        }
+        if (dist.world_size > 1) {
+            if (a->device != "cpu")
+                LTM_THROW("--device ", a->device, " with WORLD_SIZE ", dist.world_size,
+                          ": data-parallel training runs on Gloo (CPU tensors); this libtorch has no NCCL backend");
+            trainer.set_communicator(std::make_shared<Communicator>(dist, trainer.fingerprint()));
         }
         trainer.run(a->resume);
     };

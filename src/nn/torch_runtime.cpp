@@ -1,6 +1,8 @@
 // torch_runtime.cpp: the libtorch layer's process set-up. Model code lands beside this file.
 #include "ltm/nn/torch_runtime.h"
 
+#include <dlfcn.h>
+
 #include <torch/torch.h>
 
 namespace ltm {
@@ -16,7 +18,14 @@ std::string torch_runtime_description() {
 }
 
 void configure_torch_threads(int n_threads) {
-    if (n_threads > 0) torch::set_num_threads(n_threads);
+    if (n_threads <= 0) return;
+    torch::set_num_threads(n_threads);
+    // Debian's libtorch calls OpenBLAS (the pthread build) for matrix products, and OpenBLAS keeps
+    // its own pool of one thread per core: `--threads 1` ran at 145 % CPU and two training ranks
+    // oversubscribed the cores. Bound it too, through the symbol where that OpenBLAS is loaded
+    // (looked up, not linked: other BLAS builds lack it and need nothing).
+    using SetThreads = void (*)(int);
+    if (auto *f = reinterpret_cast<SetThreads>(::dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(n_threads);
 }
 
 }  // namespace ltm

@@ -157,7 +157,9 @@ TrainStepLog Trainer::train_step() {
     const int64_t K = m_cfg.scenes_per_step;
     const size_t n = m_train_paths.size();
     TrainStepLog log{t, 0.0, lr, 0.0, false};
-    for (int64_t k = 0; k < K && !log.skipped; ++k) {
+    // This rank's block of the K draws (all of them in one process).
+    const int64_t W = m_comm ? m_comm->world_size() : 1, r = m_comm ? m_comm->rank() : 0;
+    for (int64_t k = r * K / W; k < (r + 1) * K / W && !log.skipped; ++k) {
         const uint64_t u = uint64_t(t * K + k);
         const uint64_t epoch = u / n;
         std::vector<size_t> perm(n);
@@ -184,6 +186,12 @@ TrainStepLog Trainer::train_step() {
         if (!std::isfinite(v)) log.skipped = true;
         else l.backward(), log.loss += v;
     }
+    if (m_comm && m_comm->world_size() > 1) {
+        // The step's loss and "some rank saw a non-finite loss" are summed like the gradients.
+        const std::vector<double> sums = m_comm->all_reduce_sum({log.skipped ? 0.0 : log.loss, log.skipped ? 1.0 : 0.0});
+        log.loss = sums[0], log.skipped = sums[1] > 0.0;
+        all_reduce_gradients();
+    }
     if (!log.skipped) {
         log.grad_norm = torch::nn::utils::clip_grad_norm_(m_model->parameters(), m_cfg.grad_clip);
         if (!std::isfinite(log.grad_norm)) log.skipped = true;
@@ -195,6 +203,36 @@ TrainStepLog Trainer::train_step() {
     }
     ++m_step;
     return log;
+}
+
+void Trainer::all_reduce_gradients() {
+    std::vector<torch::Tensor> grads;
+    std::vector<double> defined;
+    for (auto &p : m_model->parameters()) {
+        defined.push_back(p.grad().defined() ? 1.0 : 0.0);
+        if (!p.grad().defined()) p.mutable_grad() = torch::zeros_like(p);
+        grads.push_back(p.grad());
+    }
+    defined = m_comm->all_reduce_sum(defined);
+    m_comm->all_reduce_sum(grads);
+    // A parameter no rank used keeps no gradient, as in one process (AdamW then skips it).
+    size_t i = 0;
+    for (auto &p : m_model->parameters())
+        if (defined[i++] == 0.0) p.mutable_grad() = torch::Tensor();
+}
+
+void Trainer::set_communicator(std::shared_ptr<Communicator> comm) {
+    if (comm && m_cfg.scenes_per_step % comm->world_size() != 0)
+        LTM_THROW("scenes_per_step ", m_cfg.scenes_per_step, " is not a multiple of the world size ", comm->world_size(),
+                  " (each rank trains scenes_per_step / WORLD_SIZE scenes per step)");
+    m_comm = std::move(comm);
+}
+
+std::string Trainer::fingerprint() const {
+    std::string s = m_model_cfg.to_json().dump() + "\n" + m_cfg.to_json().dump() + "\n";
+    for (const auto *paths : {&m_train_paths, &m_val_paths})
+        for (const auto &p : *paths) s += fs::path(p).filename().string() + ",";
+    return fingerprint_of(s);
 }
 
 torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target, const torch::Tensor &scale) const {
@@ -253,7 +291,9 @@ double Trainer::validate() {
     m_model->eval();
     double sum = 0, sum_mse = 0, chroma = 0, corr = 0, vs_flat = 0, log_level = 0;
     int in_band = 0, beats = 0;
-    for (size_t i = 0; i < m_val_paths.size(); ++i) {
+    // Rank r validates scenes r, r + W, ...; the sums are then summed over the ranks.
+    const size_t W = m_comm ? size_t(m_comm->world_size()) : 1, r0 = m_comm ? size_t(m_comm->rank()) : 0;
+    for (size_t i = r0; i < m_val_paths.size(); i += W) {
         CachedScene &sc = scene(m_train_paths.size() + i);
         const auto rows = spread_rows(sc.query_points.size(0), m_cfg.val_queries, m_device);
         const int64_t nq = rows.size(0);
@@ -273,12 +313,18 @@ double Trainer::validate() {
         chroma += f.chroma_error, corr += f.luminance_correlation;
         vs_flat += f.mse / std::max(f.flat_mse, 1e-30);
     }
+    if (m_comm && W > 1) {
+        const std::vector<double> t = m_comm->all_reduce_sum({sum, sum_mse, chroma, corr, vs_flat, log_level, double(in_band), double(beats)});
+        sum = t[0], sum_mse = t[1], chroma = t[2], corr = t[3], vs_flat = t[4], log_level = t[5];
+        in_band = int(t[6]), beats = int(t[7]);
+    }
     const double n = double(m_val_paths.size());
     m_val_mse_log = sum_mse / n;
     m_val_physics = {{"val_mse_vs_flat", vs_flat / n}, {"val_beats_flat", double(beats) / n},
                      {"val_level_ratio_geomean", std::exp(log_level / n)}, {"val_level_in_band", double(in_band) / n},
                      {"val_chroma_error", chroma / n}, {"val_luminance_corr", corr / n}};
-    m_val_physics.update(invariance_errors(scene(m_train_paths.size()), std::min<int64_t>(m_cfg.val_queries, 4096)));
+    if (is_root())   // one scene's invariances: rank 0's to log
+        m_val_physics.update(invariance_errors(scene(m_train_paths.size()), std::min<int64_t>(m_cfg.val_queries, 4096)));
     m_model->train();
     return sum / n;
 }
@@ -294,26 +340,40 @@ void Trainer::run(bool resume, int64_t stop_at) {
         load_checkpoint(last, m_model, *m_opt);
         m_step = st.step;
         m_best_val = st.best_val;
-        // Drop log lines past the checkpoint (written by the interrupted run after it).
-        std::string kept, line;
-        std::ifstream in(log_path);
-        while (std::getline(in, line))
-            if (!line.empty() && parse_json(line, log_path).value("step", int64_t(0)) < m_step) kept += line + "\n";
-        write_file_atomic(log_path, kept);
+        if (is_root()) {
+            // Drop log lines past the checkpoint (written by the interrupted run after it).
+            std::string kept, line;
+            std::ifstream in(log_path);
+            while (std::getline(in, line))
+                if (!line.empty() && parse_json(line, log_path).value("step", int64_t(0)) < m_step) kept += line + "\n";
+            write_file_atomic(log_path, kept);
+        }
         log_info("resuming at step ", m_step, " from ", last);
     } else {
         if (fs::exists(last)) LTM_THROW(last, ": a run exists here; pass --resume to continue it or choose another --out");
-        write_file_atomic(m_out + "/model.json", dump_json_compact(m_model_cfg.to_json()));
-        write_file_atomic(m_out + "/train.json", dump_json_compact(m_cfg.to_json()));
-        write_file_atomic(log_path, "");
+        if (is_root()) {
+            write_file_atomic(m_out + "/model.json", dump_json_compact(m_model_cfg.to_json()));
+            write_file_atomic(m_out + "/train.json", dump_json_compact(m_cfg.to_json()));
+            write_file_atomic(log_path, "");
+        }
     }
-    std::ofstream log(log_path, std::ios::app);
+    if (m_comm) {
+        // Every rank starts from rank 0's weights (an --init, a resume or a fresh initialisation
+        // alike); from then on identical summed gradients keep them identical.
+        std::vector<torch::Tensor> state;
+        for (const auto &p : m_model->parameters()) state.push_back(p.detach());
+        for (const auto &b : m_model->buffers()) state.push_back(b.detach());
+        m_comm->broadcast_from_root(state);
+    }
+    // Rank 0 logs and checkpoints; the other ranks' log stream stays closed.
+    std::ofstream log;
+    if (is_root()) log.open(log_path, std::ios::app);
     const int64_t end = stop_at >= 0 ? std::min<int64_t>(stop_at, m_cfg.steps) : m_cfg.steps;
     auto t_last = std::chrono::steady_clock::now();
     int64_t steps_since = 0;
     double loss_since = 0;   // mean over the logged interval: one step's loss is one scene's
     auto save = [&](const std::string &path) {
-        save_checkpoint(path, m_model, *m_opt, {m_step, m_best_val, model_json, train_json});
+        if (is_root()) save_checkpoint(path, m_model, *m_opt, {m_step, m_best_val, model_json, train_json});
     };
     while (m_step < end) {
         const TrainStepLog s = train_step();
@@ -351,6 +411,8 @@ void Trainer::run(bool resume, int64_t stop_at) {
         }
         if (m_step % m_cfg.ckpt_every == 0 || m_step == end) save(last);
     }
+    // No rank leaves (closing the store rank 0 serves) before rank 0's last checkpoint is written.
+    if (m_comm) m_comm->all_reduce_sum(std::vector<double>{0.0});
 }
 
 }  // namespace ltm

@@ -6,12 +6,14 @@
 #include <cstdint>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "ltm/core/json_util.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/train/dataset.h"
+#include "ltm/train/distributed.h"
 
 namespace ltm {
 
@@ -92,6 +94,15 @@ public:
     /// Starts from exported weights (fine-tuning; the optimizer starts fresh). Every tensor of the
     /// model must be in the weights with its shape; the configs may differ where no tensor does.
     void init_weights(const std::string &weights_path);
+    /// Data-parallel training (train/distributed.h): each of the W ranks draws the same scenes
+    /// u = t·K + k as one process would but runs only k in its block [rank·K/W, (rank+1)·K/W);
+    /// gradients, the loss and the validation sums are summed over the ranks, so W processes
+    /// train the model one process with a K-scene batch trains. Rank 0 alone writes the log and
+    /// checkpoints. K (scenes_per_step) must be a multiple of W. Call before run().
+    void set_communicator(std::shared_ptr<Communicator> comm);
+    /// What every rank of a group must agree on: model config, training config, the training and
+    /// validation records' file names (fingerprint_of).
+    std::string fingerprint() const;
     /// Trains up to cfg.steps (or stop_at, if smaller); with resume, continues from last.ltmckpt.
     void run(bool resume, int64_t stop_at = -1);
     /// Mean validation loss over the held-out scenes (also sets val_mse_log()).
@@ -112,6 +123,9 @@ private:
     };
     CachedScene &scene(size_t index);
     TrainStepLog train_step();
+    bool is_root() const { return !m_comm || m_comm->is_root(); }
+    /// Sums the gradients over the ranks; a parameter keeps no gradient only if no rank gave it one.
+    void all_reduce_gradients();
     /// The configured loss in the model's output frame.   z [N, 3], target E⁺ [N, 3] -> scalar
     ///   z [N, 3], target [N, 3], scale [3] or [N, 3] (output_scale of the queries) -> scalar
     torch::Tensor loss(const torch::Tensor &z, const torch::Tensor &target, const torch::Tensor &scale) const;
@@ -123,6 +137,7 @@ private:
     torch::Device m_device;
     LtmModel m_model{nullptr};
     std::unique_ptr<torch::optim::AdamW> m_opt;
+    std::shared_ptr<Communicator> m_comm;   ///< null: one process
     std::vector<std::string> m_train_paths, m_val_paths;
     std::map<std::string, std::unique_ptr<CachedScene>> m_cache;
     std::vector<TrainStepLog> m_history;
