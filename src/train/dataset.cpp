@@ -23,34 +23,30 @@ namespace fs = std::filesystem;
 
 namespace ltm {
 
-DataPreset DataPreset::from_json(const Json &j, const std::string &where) {
-    JsonObject o(j, where);
-    DataPreset p;
-    p.name = o.get_string("name", p.name);
-    p.scene_points = o.get_int("scene_points", p.scene_points);
-    p.query_points = o.get_int("query_points", p.query_points);
-    p.spp = o.get_int("spp", p.spp);
-    p.test_spp = o.get_int("test_spp", p.test_spp);
-    p.max_depth = o.get_int("max_depth", p.max_depth);
-    p.exclude_enclosed = o.get_bool("exclude_enclosed", p.exclude_enclosed);
-    p.generator = o.get_string("generator", p.generator);
-    p.camera_queries = o.get_float("camera_queries", p.camera_queries);
-    o.finish();
-    if (p.scene_points < 16 || p.scene_points > k_max_sample_count) LTM_THROW(o.where("scene_points"), ": out of range");
-    if (p.query_points < 1 || p.query_points > k_max_sample_count) LTM_THROW(o.where("query_points"), ": out of range");
-    if (p.spp < 1 || p.test_spp < 1) LTM_THROW(o.where("spp"), ": spp and test_spp must be >= 1");
-    if (p.max_depth < 1) LTM_THROW(o.where("max_depth"), ": must be >= 1");
-    if (!(p.camera_queries >= 0.f && p.camera_queries <= 1.f)) LTM_THROW(o.where("camera_queries"), ": must be in [0, 1]");
-    return p;
+const ConfigFields<DataPreset> &DataPreset::fields() {
+    using P = DataPreset;
+    const double n_max = double(k_max_sample_count);
+    static const ConfigFields<P> f =
+        ConfigFields<P>()
+            .field("name", &P::name, "preset name (informational; written into every record)")
+            .field("scene_points", &P::scene_points, "M, the model's input points per scene (must match the model)", between(16, n_max))
+            .field("query_points", &P::query_points, "N, labelled query points per scene", between(1, n_max))
+            .field("spp", &P::spp, "path-traced samples per query point of training records (paper: 1024)", at_least(1))
+            .field("test_spp", &P::test_spp, "samples per point with --test (held-out references)", at_least(1))
+            .field("max_depth", &P::max_depth, "scattering events after the point (paper: 5)", at_least(1))
+            .field("exclude_enclosed", &P::exclude_enclosed, "drop points inside closed solids (docs/formats.md)")
+            .field("generator", &P::generator, "generator config file (\"\" = built-in defaults)")
+            .field("camera_queries", &P::camera_queries,
+                   "share of the query points drawn through the scene's cameras at random raster positions (render/view_samples.h); 0 = area-uniform, the paper's",
+                   between(0, 1));
+    return f;
 }
+
+DataPreset DataPreset::from_json(const Json &j, const std::string &where) { return fields().read(j, where); }
 
 DataPreset DataPreset::from_file(const std::string &path) { return from_json(parse_json_file(path), path); }
 
-OrderedJson DataPreset::to_json() const {
-    return {{"name", name}, {"scene_points", scene_points}, {"query_points", query_points}, {"spp", spp},
-            {"test_spp", test_spp}, {"max_depth", max_depth}, {"exclude_enclosed", exclude_enclosed},
-            {"generator", generator}, {"camera_queries", camera_queries}};
-}
+OrderedJson DataPreset::to_json() const { return fields().write(*this); }
 
 std::string record_file_name(uint64_t seed) {
     char buf[64];

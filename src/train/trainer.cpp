@@ -21,51 +21,41 @@ namespace fs = std::filesystem;
 
 namespace ltm {
 
+const ConfigFields<TrainConfig> &TrainConfig::fields() {
+    using C = TrainConfig;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("steps", &C::steps, "optimizer steps", at_least(1))
+            .field("batch_queries", &C::batch_queries, "query points per step (paper: 8192), split evenly over the step's scenes", at_least(1))
+            .field("scenes_per_step", &C::scenes_per_step, "scenes encoded per step, K (note 1); a multiple of the ranks' count when data-parallel", at_least(1))
+            .field("lr", &C::lr, "peak learning rate (AdamW)", positive())
+            .field("min_lr_ratio", &C::min_lr_ratio, "cosine decay ends at lr·ratio (1: constant after warm-up)", between(0, 1))
+            .field("warmup_steps", &C::warmup_steps, "linear warm-up from 0", at_least(0))
+            .field("weight_decay", &C::weight_decay, "AdamW decoupled weight decay", at_least(0))
+            .field("grad_clip", &C::grad_clip, "max global gradient norm", positive())
+            .field("loss", &C::loss, "training loss (note 2)", {}, {"relative-l2", "log-relative-l2", "level-l2"})
+            .field("loss_eps", &C::loss_eps, "ε of the relative losses' denominator (note 2)", positive())
+            .field("val_fraction", &C::val_fraction, "highest-seed records held out for validation (without --val-data)", from_below(0, 1))
+            .field("val_scenes", &C::val_scenes, "at most this many held-out scenes evaluated", at_least(1))
+            .field("val_queries", &C::val_queries, "queries per validation scene, spread evenly over the record's rows (note 3)", at_least(1))
+            .field("val_every", &C::val_every, "steps between validations (best.ltmckpt on improvement)", at_least(1))
+            .field("augment", &C::augment, "turn each step's scene by k·90° about +y and/or mirror it (one of 8; train/augment.h); validation never")
+            .field("select_by", &C::select_by, "what best.ltmckpt minimises (note 4)", {}, {"val_loss", "val_mse_log", "val_mse_vs_flat"})
+            .field("ckpt_every", &C::ckpt_every, "steps between last.ltmckpt writes", at_least(1))
+            .field("keep_val_checkpoints", &C::keep_val_checkpoints, "also keep every validation step's weights as step-N.ltmckpt (scripts/select-by-views.sh)")
+            .field("log_every", &C::log_every, "steps between log.jsonl lines", at_least(1))
+            .field("seed", &C::seed, "set by `--seed`; scenes, queries, augmentation and PTv3 shuffles are functions of (seed, step)");
+    return f;
+}
+
 TrainConfig TrainConfig::from_json(const Json &j, const std::string &where) {
-    JsonObject o(j, where);
-    TrainConfig c;
-    c.steps = o.get_int("steps", c.steps);
-    c.batch_queries = o.get_int("batch_queries", c.batch_queries);
-    c.scenes_per_step = o.get_int("scenes_per_step", c.scenes_per_step);
-    c.lr = o.get_float("lr", c.lr);
-    c.min_lr_ratio = o.get_float("min_lr_ratio", c.min_lr_ratio);
-    c.warmup_steps = o.get_int("warmup_steps", c.warmup_steps);
-    c.weight_decay = o.get_float("weight_decay", c.weight_decay);
-    c.grad_clip = o.get_float("grad_clip", c.grad_clip);
-    c.loss = o.get_string("loss", c.loss);
-    if (c.loss != "relative-l2" && c.loss != "log-relative-l2" && c.loss != "level-l2")
-        LTM_THROW(o.where("loss"), ": '", c.loss, "' is not one of relative-l2, log-relative-l2, level-l2");
-    c.loss_eps = o.get_float("loss_eps", c.loss_eps);
-    c.val_fraction = o.get_float("val_fraction", c.val_fraction);
-    c.val_scenes = o.get_int("val_scenes", c.val_scenes);
-    c.val_queries = o.get_int("val_queries", c.val_queries);
-    c.val_every = o.get_int("val_every", c.val_every);
-    c.augment = o.get_bool("augment", c.augment);
-    c.select_by = o.get_string("select_by", c.select_by);
-    if (c.select_by != "val_loss" && c.select_by != "val_mse_log" && c.select_by != "val_mse_vs_flat")
-        LTM_THROW(o.where("select_by"), ": '", c.select_by, "' is not one of val_loss, val_mse_log, val_mse_vs_flat");
-    c.ckpt_every = o.get_int("ckpt_every", c.ckpt_every);
-    c.keep_val_checkpoints = o.get_bool("keep_val_checkpoints", c.keep_val_checkpoints);
-    c.log_every = o.get_int("log_every", c.log_every);
-    c.seed = uint64_t(o.get_int("seed", int(c.seed)));
-    o.finish();
-    if (c.scenes_per_step < 1 || c.scenes_per_step > c.batch_queries)
-        LTM_THROW(o.where("scenes_per_step"), ": must be in [1, batch_queries]");
-    if (c.steps < 1 || c.batch_queries < 1 || c.val_every < 1 || c.ckpt_every < 1 || c.log_every < 1 || c.val_queries < 1)
-        LTM_THROW(where, ": steps, batch_queries, val_every, ckpt_every, log_every, val_queries must be >= 1");
-    if (!(c.lr > 0.f) || !(c.loss_eps > 0.f) || !(c.grad_clip > 0.f)) LTM_THROW(where, ": lr, loss_eps, grad_clip must be > 0");
-    if (!(c.val_fraction >= 0.f && c.val_fraction < 1.f)) LTM_THROW(o.where("val_fraction"), ": must be in [0, 1)");
+    const TrainConfig c = fields().read(j, where);
+    if (c.scenes_per_step > c.batch_queries)
+        LTM_THROW(where, ": /scenes_per_step: must be in [1, batch_queries]");
     return c;
 }
 
-OrderedJson TrainConfig::to_json() const {
-    return {{"steps", steps}, {"batch_queries", batch_queries}, {"scenes_per_step", scenes_per_step}, {"lr", json_float(lr)}, {"min_lr_ratio", json_float(min_lr_ratio)},
-            {"warmup_steps", warmup_steps}, {"weight_decay", json_float(weight_decay)}, {"grad_clip", json_float(grad_clip)},
-            {"loss", loss}, {"loss_eps", json_float(loss_eps)}, {"val_fraction", json_float(val_fraction)}, {"val_scenes", val_scenes},
-            {"val_queries", val_queries}, {"val_every", val_every}, {"augment", augment}, {"select_by", select_by}, {"ckpt_every", ckpt_every},
-            {"keep_val_checkpoints", keep_val_checkpoints},
-            {"log_every", log_every}, {"seed", seed}};
-}
+OrderedJson TrainConfig::to_json() const { return fields().write(*this); }
 
 double learning_rate(const TrainConfig &c, int64_t step) {
     if (step < c.warmup_steps) return double(c.lr) * double(step + 1) / double(c.warmup_steps);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/train/trainer.h"
 #include "test_util.h"
@@ -201,6 +202,13 @@ TEST(Trainer, DefaultConfigFileEqualsBuiltInDefaults) {
 }
 
 // Every shipped config parses (issue #14 item 9): a preset nobody reads would drift unnoticed.
+// docs/config.md shows the tables the config descriptions print (on failure: paste the expected one).
+TEST(Trainer, ConfigDocsAreTheDescriptionsTables) {
+    const std::string docs = read_file(test::source_path("docs/config.md"));
+    for (const std::string &table : {TrainConfig::fields().markdown_table(), DataPreset::fields().markdown_table()})
+        EXPECT_NE(docs.find(table), std::string::npos) << "docs/config.md lacks this table:\n" << table;
+}
+
 TEST(Trainer, EveryShippedConfigParses) {
     namespace fs = std::filesystem;
     int n = 0;

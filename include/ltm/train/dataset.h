@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ltm/core/config_fields.h"
 #include "ltm/core/json_util.h"
 #include "ltm/core/math.h"
 #include "ltm/points/point_set.h"
@@ -31,6 +32,8 @@ struct DataPreset {
     float camera_queries = 0.f;
     std::string generator;        ///< generator config file ("" = built-in defaults)
 
+    /// The keys, limits and docs of the fields above (core/config_fields.h; docs/config.md).
+    static const ConfigFields<DataPreset> &fields();
     static DataPreset from_json(const Json &j, const std::string &where);
     static DataPreset from_file(const std::string &path);
     OrderedJson to_json() const;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "ltm/core/config_fields.h"
 #include "ltm/core/json_util.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/train/dataset.h"
@@ -59,6 +60,8 @@ struct TrainConfig {
     int log_every = 10;           ///< steps between JSONL log lines
     uint64_t seed = 0;            ///< everything random is a function of (seed, step)
 
+    /// The keys, limits and docs of the fields above (core/config_fields.h; docs/config.md).
+    static const ConfigFields<TrainConfig> &fields();
     static TrainConfig from_json(const Json &j, const std::string &where);
     OrderedJson to_json() const;
 };

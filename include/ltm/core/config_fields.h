@@ -1,0 +1,150 @@
+// config_fields.h: a config struct described once — key, member, limits or choices, one-line
+// doc — and that description reads it from JSON (types checked, limits enforced, unknown keys
+// rejected, every error naming the file and key), writes it back, and prints the table of
+// docs/config.md (a test keeps the docs equal to it). Adding a key is one line plus its use, as
+// with pbrt-v4's parameter dictionaries or tiny-cuda-nn's JSON configs.
+//
+//   static const ConfigFields<TrainConfig> fields = ConfigFields<TrainConfig>()
+//       .field("steps", &TrainConfig::steps, "optimizer steps", at_least(1))
+//       .field("loss", &TrainConfig::loss, "training loss", {}, {"relative-l2", "level-l2"});
+//   TrainConfig c = fields.read(json, "train.json");
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "ltm/core/error.h"
+#include "ltm/core/json_util.h"
+
+namespace ltm {
+
+/// Allowed values of a numeric field: lo <= v <= hi, or v < hi when hi_open.
+struct FieldLimits {
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    bool hi_open = false;
+    bool contains(double v) const { return v >= lo && (hi_open ? v < hi : v <= hi); }
+    bool bounded() const { return std::isfinite(lo) || std::isfinite(hi); }
+};
+inline FieldLimits at_least(double lo) { return {lo}; }
+inline FieldLimits between(double lo, double hi) { return {lo, hi}; }
+inline FieldLimits from_below(double lo, double hi) { return {lo, hi, true}; }   ///< [lo, hi)
+/// Strictly positive (written "> 0").
+inline FieldLimits positive() { return {std::nextafter(0.0, 1.0)}; }
+
+/// The value type V of a member pointer V T::*.
+template <class M>
+struct member_value;
+template <class C, class V>
+struct member_value<V C::*> {
+    using type = V;
+};
+
+template <class T>
+class ConfigFields {
+public:
+    using Member = std::variant<int T::*, float T::*, bool T::*, std::string T::*, uint64_t T::*>;
+    struct Field {
+        std::string key;
+        Member member;
+        std::string doc;
+        FieldLimits limits;
+        std::vector<std::string> choices;   ///< string fields: the allowed values (empty: any)
+    };
+
+    ConfigFields &field(std::string key, Member member, std::string doc, FieldLimits limits = {},
+                        std::vector<std::string> choices = {}) {
+        m_fields.push_back({std::move(key), member, std::move(doc), limits, std::move(choices)});
+        return *this;
+    }
+    const std::vector<Field> &fields() const { return m_fields; }
+
+    /// `out` (the defaults) with the keys present in j; throws ltm::Error naming where/key.
+    T read(const Json &j, const std::string &where, T out = T{}) const {
+        JsonObject o(j, where);
+        for (const Field &f : m_fields) {
+            if (!o.has(f.key)) continue;
+            std::visit(
+                [&](auto m) {
+                    using V = typename member_value<decltype(m)>::type;
+                    V &v = out.*m;
+                    if constexpr (std::is_same_v<V, bool>) v = o.get_bool(f.key, v);
+                    else if constexpr (std::is_same_v<V, std::string>) v = o.get_string(f.key, v);
+                    else if constexpr (std::is_same_v<V, float>) v = o.get_float(f.key, v);
+                    else if constexpr (std::is_same_v<V, uint64_t>) {
+                        const int x = o.get_int(f.key, 0);
+                        if (x < 0) LTM_THROW(o.where(f.key), ": must be >= 0");
+                        v = uint64_t(x);
+                    } else v = o.get_int(f.key, v);
+                    if constexpr (std::is_arithmetic_v<V> && !std::is_same_v<V, bool>)
+                        if (!f.limits.contains(double(v)))
+                            LTM_THROW(o.where(f.key), ": ", json_value(v), " is outside ", limits_text(f.limits));
+                    if constexpr (std::is_same_v<V, std::string>)
+                        if (!f.choices.empty() && std::find(f.choices.begin(), f.choices.end(), v) == f.choices.end())
+                            LTM_THROW(o.where(f.key), ": '", v, "' is not one of ", join(f.choices, ", "));
+                },
+                f.member);
+        }
+        o.finish();
+        return out;
+    }
+
+    /// Every field, in declaration order.
+    OrderedJson write(const T &c) const {
+        OrderedJson j = OrderedJson::object();
+        for (const Field &f : m_fields) std::visit([&](auto m) { j[f.key] = json_value(c.*m); }, f.member);
+        return j;
+    }
+
+    /// | key | default | allowed | meaning | — the defaults are T{}'s.
+    std::string markdown_table() const {
+        const T d{};
+        std::ostringstream s;
+        s << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
+        for (const Field &f : m_fields) {
+            std::string allowed;
+            std::visit(
+                [&](auto m) {
+                    using V = typename member_value<decltype(m)>::type;
+                    if constexpr (std::is_same_v<V, bool>) allowed = "true, false";
+                    else if constexpr (std::is_same_v<V, std::string>) allowed = f.choices.empty() ? "text" : join(f.choices, ", ", "`");
+                    else allowed = f.limits.bounded() ? limits_text(f.limits) : "any";
+                    s << "| `" << f.key << "` | `" << json_value(d.*m).dump() << "` | " << allowed << " | " << f.doc << " |\n";
+                },
+                f.member);
+        }
+        return s.str();
+    }
+
+private:
+    template <class V>
+    static OrderedJson json_value(const V &v) {
+        if constexpr (std::is_same_v<V, float>) return json_float(v);
+        else return v;
+    }
+    static std::string number(double x) {
+        std::ostringstream s;
+        s.precision(12);   // 50000000, not 5e+07
+        s << x;
+        return s.str();
+    }
+    static std::string limits_text(const FieldLimits &l) {
+        if (l.lo == std::nextafter(0.0, 1.0) && !std::isfinite(l.hi)) return "> 0";
+        if (!std::isfinite(l.hi)) return ">= " + number(l.lo);
+        if (!std::isfinite(l.lo)) return (l.hi_open ? "< " : "<= ") + number(l.hi);
+        return "[" + number(l.lo) + ", " + number(l.hi) + (l.hi_open ? ")" : "]");
+    }
+    static std::string join(const std::vector<std::string> &v, const char *sep, const char *quote = "") {
+        std::string s;
+        for (size_t i = 0; i < v.size(); ++i) s += (i ? sep : "") + std::string(quote) + v[i] + quote;
+        return s;
+    }
+    std::vector<Field> m_fields;
+};
+
+}  // namespace ltm

@@ -1,0 +1,66 @@
+// config_fields_test.cpp: one description reads, validates, writes and documents a config.
+#include <gtest/gtest.h>
+
+#include "ltm/core/config_fields.h"
+
+using namespace ltm;
+
+namespace {
+struct Toy {
+    int n = 3;
+    float rate = 0.5f;
+    bool on = true;
+    std::string mode = "a";
+    uint64_t seed = 7;
+    static const ConfigFields<Toy> &fields() {
+        static const ConfigFields<Toy> f = ConfigFields<Toy>()
+                                               .field("n", &Toy::n, "a count", at_least(1))
+                                               .field("rate", &Toy::rate, "a share", from_below(0, 1))
+                                               .field("on", &Toy::on, "a switch")
+                                               .field("mode", &Toy::mode, "a choice", {}, {"a", "b"})
+                                               .field("seed", &Toy::seed, "a seed");
+        return f;
+    }
+};
+std::string error_of(const std::string &json) {
+    try {
+        Toy::fields().read(parse_json(json, "toy.json"), "toy.json");
+    } catch (const Error &e) {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+TEST(ConfigFields, ReadsWhatIsGivenAndKeepsTheDefaults) {
+    const Toy t = Toy::fields().read(parse_json(R"({"n": 5, "mode": "b", "seed": 9})", "toy.json"), "toy.json");
+    EXPECT_EQ(t.n, 5);
+    EXPECT_EQ(t.mode, "b");
+    EXPECT_EQ(t.seed, 9u);
+    EXPECT_EQ(t.rate, 0.5f);
+    EXPECT_TRUE(t.on);
+    // Written back in declaration order, floats in their shortest form; reading that is the identity.
+    const OrderedJson j = Toy::fields().write(t);
+    EXPECT_EQ(j.dump(), R"({"n":5,"rate":0.5,"on":true,"mode":"b","seed":9})");
+    const Toy u = Toy::fields().read(Json::parse(j.dump()), "again");
+    EXPECT_EQ(Toy::fields().write(u), j);
+}
+
+TEST(ConfigFields, BadValuesAreLocatedErrors) {
+    EXPECT_EQ(error_of(R"({"n": 0})"), "toy.json: /n: 0 is outside >= 1");
+    EXPECT_EQ(error_of(R"({"rate": 1.0})"), "toy.json: /rate: 1.0 is outside [0, 1)");
+    EXPECT_EQ(error_of(R"({"mode": "c"})"), "toy.json: /mode: 'c' is not one of a, b");
+    EXPECT_NE(error_of(R"({"n": "x"})").find("toy.json: /n"), std::string::npos);
+    EXPECT_NE(error_of(R"({"m": 1})").find("unknown key 'm'"), std::string::npos);
+    EXPECT_NE(error_of(R"({"seed": -1})").find("must be >= 0"), std::string::npos);
+}
+
+TEST(ConfigFields, TableShowsDefaultsLimitsAndDocs) {
+    EXPECT_EQ(Toy::fields().markdown_table(),
+              "| key | default | allowed | meaning |\n|---|---|---|---|\n"
+              "| `n` | `3` | >= 1 | a count |\n"
+              "| `rate` | `0.5` | [0, 1) | a share |\n"
+              "| `on` | `true` | true, false | a switch |\n"
+              "| `mode` | `\"a\"` | `a`, `b` | a choice |\n"
+              "| `seed` | `7` | any | a seed |\n");
+}
