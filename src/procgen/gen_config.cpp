@@ -1,4 +1,5 @@
-// gen_config.cpp: strict JSON reading and writing of GenConfig, with range validation.
+// gen_config.cpp: GenConfig declared once per section (core/config_fields.h): keys, limits and
+// docs; reading, validation, writing and the docs tables all come from it.
 #include "ltm/procgen/gen_config.h"
 
 #include <cstdio>
@@ -32,173 +33,178 @@ std::map<std::string, ArchetypeRanges> default_archetypes() {
 }
 
 namespace {
+constexpr float k_big = 1e6f;   // "no practical upper bound" of relative weights
+}  // namespace
 
-OrderedJson range_json(Vec2f r) { return OrderedJson::array({json_float(r.x), json_float(r.y)}); }
-OrderedJson range_json(IntRange r) { return OrderedJson::array({r.lo, r.hi}); }
-
-// Readers: keep the default when the key is absent, validate when present.
-void read_float(JsonObject &o, const std::string &key, float &v, float lo, float hi) {
-    v = o.get_float(key, v);
-    if (!(v >= lo && v <= hi)) LTM_THROW(o.where(key), ": must be in [", lo, ", ", hi, "], got ", v);
-}
-void read_prob(JsonObject &o, const std::string &key, float &p) { read_float(o, key, p, 0.f, 1.f); }
-void read_int(JsonObject &o, const std::string &key, int &v, int lo, int hi) {
-    v = o.get_int(key, v);
-    if (v < lo || v > hi) LTM_THROW(o.where(key), ": must be in [", lo, ", ", hi, "], got ", v);
-}
-void read_range(JsonObject &o, const std::string &key, Vec2f &r, float lo, float hi) {
-    r = o.get_range(key, r);   // checks lo <= hi
-    if (!(r.x >= lo && r.y <= hi))
-        LTM_THROW(o.where(key), ": range [", r.x, ", ", r.y, "] must lie in [", lo, ", ", hi, "]");
-}
-void read_int_range(JsonObject &o, const std::string &key, IntRange &r, int lo, int hi) {
-    if (!o.has(key)) return;
-    const Json &v = o.require(key);
-    if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer())
-        LTM_THROW(o.where(key), ": expected an integer range [lo, hi]");
-    const int64_t a = v[0].get<int64_t>(), b = v[1].get<int64_t>();
-    if (a > b) LTM_THROW(o.where(key), ": range has lo > hi: [", a, ", ", b, "]");
-    if (a < lo || b > hi)
-        LTM_THROW(o.where(key), ": range [", a, ", ", b, "] must lie in [", lo, ", ", hi, "]");
-    r = {int(a), int(b)};
+const ConfigFields<GenConfig::Plan> &GenConfig::Plan::fields() {
+    using C = GenConfig::Plan;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("weight_single", &C::weight_single, "relative frequency: one rectangular room", between(0, k_big))
+            .field("weight_l_room", &C::weight_l_room, "one L-shaped room", between(0, k_big))
+            .field("weight_bsp", &C::weight_bsp, "rectangle split into rooms by binary space partition", between(0, k_big))
+            .field("weight_hallway", &C::weight_hallway, "hallway strip with rooms along one or both sides", between(0, k_big))
+            .field("weight_l_split", &C::weight_l_split, "L-shaped footprint split into rooms", between(0, k_big))
+            .field("footprint_size", &C::footprint_size, "sides of a multi-room footprint (m)", between(1.0, 100.0))
+            .field("n_rooms", &C::n_rooms, "target room count of BSP plans", between(2, 64))
+            .field("split_fraction", &C::split_fraction, "BSP cut position as a fraction of the side", between(0.05, 0.95))
+            .field("l_cut_fraction", &C::l_cut_fraction, "fraction of each side the L's notch removes", between(0.05, 0.95))
+            .field("hallway_width", &C::hallway_width, "hallway width (m)", between(0.5, 10.0))
+            .field("hallway_rooms_per_side", &C::hallway_rooms_per_side, "rooms on each side of a hallway", between(1, 16))
+            .field("p_hallway_two_sided", &C::p_hallway_two_sided, "rooms on both sides of the hallway", between(0, 1))
+            .field("snap", &C::snap, "every plan coordinate is a multiple of this (m)", between(0.002, 1.0))
+            .field("max_attempts", &C::max_attempts, "plan retries before falling back to one room", between(1, 10000));
+    return f;
 }
 
-constexpr float k_big = 1e6f;
-
-void read_plan(JsonObject &o, GenConfig::Plan &p) {
-    read_float(o, "weight_single", p.weight_single, 0.f, k_big);
-    read_float(o, "weight_l_room", p.weight_l_room, 0.f, k_big);
-    read_float(o, "weight_bsp", p.weight_bsp, 0.f, k_big);
-    read_float(o, "weight_hallway", p.weight_hallway, 0.f, k_big);
-    read_float(o, "weight_l_split", p.weight_l_split, 0.f, k_big);
-    if (!(p.weight_single + p.weight_l_room + p.weight_bsp + p.weight_hallway + p.weight_l_split > 0.f))
-        LTM_THROW(o.where(), ": the plan weights must not all be zero");
-    read_range(o, "footprint_size", p.footprint_size, 1.f, 100.f);
-    read_int_range(o, "n_rooms", p.n_rooms, 2, 64);
-    read_range(o, "split_fraction", p.split_fraction, 0.05f, 0.95f);
-    read_range(o, "l_cut_fraction", p.l_cut_fraction, 0.05f, 0.95f);
-    read_range(o, "hallway_width", p.hallway_width, 0.5f, 10.f);
-    read_int_range(o, "hallway_rooms_per_side", p.hallway_rooms_per_side, 1, 16);
-    read_prob(o, "p_hallway_two_sided", p.p_hallway_two_sided);
-    read_float(o, "snap", p.snap, 0.002f, 1.f);
-    read_int(o, "max_attempts", p.max_attempts, 1, 10000);
-    o.finish();
+const ConfigFields<GenConfig::Rooms> &GenConfig::Rooms::fields() {
+    using C = GenConfig::Rooms;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("size", &C::size, "sides of single rooms and of hallway rooms (m)", between(1.0, 100.0))
+            .field("l_room_size", &C::l_room_size, "bounding sides of an L-shaped single room (m)", between(2.0, 100.0))
+            .field("min_side", &C::min_side, "no partition cell gets a side shorter than this (m)", between(0.5, 100.0))
+            .field("ceiling_height", &C::ceiling_height, "ceiling height (m), one per plan", between(1.0, 20.0));
+    return f;
 }
 
-void read_rooms(JsonObject &o, GenConfig::Rooms &r) {
-    read_range(o, "size", r.size, 1.f, 100.f);
-    read_range(o, "l_room_size", r.l_room_size, 2.f, 100.f);
-    read_float(o, "min_side", r.min_side, 0.5f, 100.f);
-    read_range(o, "ceiling_height", r.ceiling_height, 1.f, 20.f);
-    o.finish();
+const ConfigFields<GenConfig::Walls> &GenConfig::Walls::fields() {
+    using C = GenConfig::Walls;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("thickness", &C::thickness, "interior wall thickness (m); door openings go through it", between(0.01, 2.0));
+    return f;
 }
 
-void read_doors(JsonObject &o, GenConfig::Doors &d) {
-    read_range(o, "width", d.width, 0.3f, 5.f);
-    read_range(o, "height", d.height, 0.5f, 10.f);
-    read_float(o, "corner_margin", d.corner_margin, 0.f, 5.f);
-    read_prob(o, "p_extra", d.p_extra);
-    read_float(o, "clear_depth", d.clear_depth, 0.f, 10.f);
-    read_float(o, "clear_side", d.clear_side, 0.f, 10.f);
-    o.finish();
+const ConfigFields<GenConfig::Doors> &GenConfig::Doors::fields() {
+    using C = GenConfig::Doors;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("width", &C::width, "door width (m)", between(0.3, 5.0))
+            .field("height", &C::height, "door height (m), clamped below the ceiling", between(0.5, 10.0))
+            .field("corner_margin", &C::corner_margin, "min distance from a door to a wall corner (m)", between(0.0, 5.0))
+            .field("p_extra", &C::p_extra, "chance of a door on each adjacency beyond the tree", between(0, 1))
+            .field("clear_depth", &C::clear_depth, "furniture-free depth in front of a door, each side (m)", between(0.0, 10.0))
+            .field("clear_side", &C::clear_side, "furniture-free margin beside the door's width (m)", between(0.0, 10.0));
+    return f;
 }
 
+const ConfigFields<GenConfig::Furniture> &GenConfig::Furniture::fields() {
+    using C = GenConfig::Furniture;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("density", &C::density, "items per m² of room floor", between(0.0, 10.0))
+            .field("items_per_room", &C::items_per_room, "clamp of the density-derived count", between(0, 1000))
+            .field("hallway_density_scale", &C::hallway_density_scale, "hallways hold fewer items", between(0.0, 10.0))
+            .field("clearance", &C::clearance, "min gap between two pieces of furniture (m)", between(0.0, 5.0))
+            .field("wall_gap", &C::wall_gap, "gap between a wall-placed piece and its wall (m)", between(0.0, 1.0))
+            .field("p_carpet", &C::p_carpet, "chance of a carpet per room", between(0, 1))
+            .field("max_attempts", &C::max_attempts, "placement tries per item", between(1, 100000))
+            .field("ajar_light_room_max_items", &C::ajar_light_room_max_items, "furniture allowed in the lit room of ajar scenes", between(0, 1000));
+    return f;
+}
+
+const ConfigFields<GenConfig::Textures> &GenConfig::Textures::fields() {
+    using C = GenConfig::Textures;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("p_floor_wood", &C::p_floor_wood, "floor gets a wood texture", between(0, 1))
+            .field("p_floor_tiles", &C::p_floor_tiles, "floor gets checker tiles (else plain)", between(0, 1))
+            .field("p_wall_pattern", &C::p_wall_pattern, "striped wallpaper", between(0, 1))
+            .field("p_accent_wall", &C::p_accent_wall, "saturated wall colour instead of a white/pastel", between(0, 1))
+            .field("p_carpet_pattern", &C::p_carpet_pattern, "carpet stripes or noise (else plain)", between(0, 1))
+            .field("p_furniture_wood", &C::p_furniture_wood, "wooden parts get a wood texture (else plain)", between(0, 1))
+            .field("p_fabric_pattern", &C::p_fabric_pattern, "fabric stripes or checker (else plain)", between(0, 1))
+            .field("p_saturated_fabric", &C::p_saturated_fabric, "fabric from the saturated palette", between(0, 1))
+            .field("wood_scale", &C::wood_scale, "wood ring period (m)", between(0.001, 100.0))
+            .field("tile_scale", &C::tile_scale, "checker cell (m)", between(0.001, 100.0))
+            .field("stripe_scale", &C::stripe_scale, "stripe pair period (m)", between(0.001, 100.0))
+            .field("noise_scale", &C::noise_scale, "noise feature size (m)", between(0.001, 100.0))
+            .field("color_jitter", &C::color_jitter, "relative per-object jitter of palette colours", between(0.0, 0.5));
+    return f;
+}
+
+const ConfigFields<GenConfig::Lights> &GenConfig::Lights::fields() {
+    using C = GenConfig::Lights;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("per_room", &C::per_room, "ceiling lights in each lit room", between(1, 64))
+            .field("size", &C::size, "side of a rectangular light (m)", between(0.05, 20.0))
+            .field("temperature", &C::temperature, "colour temperature (K)", between(1000.0, 40000.0))
+            .field("power_density", &C::power_density, "emitted power per m² of lit floor (luminance-weighted W/m²): Φ = π·L·A_light, so a 20 m² room gets 100–400 W", between(0.0, 1e5))
+            .field("wall_margin", &C::wall_margin, "min distance from a light to a wall (m)", between(0.0, 10.0))
+            .field("light_gap", &C::light_gap, "min distance between two lights (m)", between(0.0, 10.0))
+            .field("tall_height", &C::tall_height, "furniture taller than this keeps off the lights (m)", between(0.0, 20.0))
+            .field("tall_clearance", &C::tall_clearance, "plan gap between a light and tall furniture (m)", between(0.0, 10.0))
+            .field("ceiling_gap", &C::ceiling_gap, "lights hang this far below the ceiling (m)", between(0.0001, 0.1))
+            .field("p_ajar", &C::p_ajar, "all lights in one sparsely furnished room (>= 2 rooms)", between(0, 1))
+            .field("max_attempts", &C::max_attempts, "placement tries per light", between(1, 100000));
+    return f;
+}
+
+const ConfigFields<GenConfig::CameraCfg> &GenConfig::CameraCfg::fields() {
+    using C = GenConfig::CameraCfg;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("width", &C::width, "image width (pixels)", between(1, 16384))
+            .field("height", &C::height, "image height (pixels)", between(1, 16384))
+            .field("fov_y", &C::fov_y, "vertical field of view (degrees)", between(1.0, 170.0))
+            .field("eye_height", &C::eye_height, "eye height above the floor (m)", between(0.1, 20.0))
+            .field("target_height", &C::target_height, "height of the point the camera looks at (m)", between(0.0, 20.0))
+            .field("wall_margin", &C::wall_margin, "min distance from the eye to a wall (m)", between(0.0, 10.0))
+            .field("furniture_clearance", &C::furniture_clearance, "preferred plan distance to furniture (m)", between(0.0, 10.0))
+            .field("n_candidates", &C::n_candidates, "eye positions tried; the best one is kept", between(1, 100000));
+    return f;
+}
+
+namespace {
 void read_archetypes(JsonObject &o, std::map<std::string, ArchetypeRanges> &archetypes) {
-    for (auto &[name, a] : archetypes) {
-        if (!o.has(name)) continue;
-        JsonObject ao = o.require_object(name);
-        read_float(ao, "weight", a.weight, 0.f, k_big);
-        read_range(ao, "width", a.width, 0.005f, 20.f);
-        read_range(ao, "depth", a.depth, 0.005f, 20.f);
-        read_range(ao, "height", a.height, 0.005f, 20.f);
-        ao.finish();
-    }
+    static const ConfigFields<ArchetypeRanges> fields = ConfigFields<ArchetypeRanges>()
+                                                            .field("weight", &ArchetypeRanges::weight, "relative frequency", between(0, k_big))
+                                                            .field("width", &ArchetypeRanges::width, "along the wall (m)", between(0.005, 20))
+                                                            .field("depth", &ArchetypeRanges::depth, "away from the wall (m)", between(0.005, 20))
+                                                            .field("height", &ArchetypeRanges::height, "m", between(0.005, 20));
+    for (auto &[name, a] : archetypes)
+        if (o.has(name)) a = fields.read(o.require(name), o.where(name), a);
     o.finish();   // names an unknown archetype
 }
 
-void read_furniture(JsonObject &o, GenConfig::Furniture &f) {
-    read_range(o, "density", f.density, 0.f, 10.f);
-    read_int_range(o, "items_per_room", f.items_per_room, 0, 1000);
-    read_float(o, "hallway_density_scale", f.hallway_density_scale, 0.f, 10.f);
-    read_float(o, "clearance", f.clearance, 0.f, 5.f);
-    read_float(o, "wall_gap", f.wall_gap, 0.f, 1.f);
-    read_prob(o, "p_carpet", f.p_carpet);
-    read_int(o, "max_attempts", f.max_attempts, 1, 100000);
-    read_int(o, "ajar_light_room_max_items", f.ajar_light_room_max_items, 0, 1000);
-    if (o.has("archetypes")) {
-        JsonObject ao = o.require_object("archetypes");
-        read_archetypes(ao, f.archetypes);
-    }
-    o.finish();
+OrderedJson archetypes_json(const std::map<std::string, ArchetypeRanges> &archetypes) {
+    OrderedJson arch = OrderedJson::object();
+    for (const auto &[name, a] : archetypes)   // std::map: sorted, stable
+        arch[name] = {{"weight", json_float(a.weight)},
+                      {"width", {json_float(a.width.x), json_float(a.width.y)}},
+                      {"depth", {json_float(a.depth.x), json_float(a.depth.y)}},
+                      {"height", {json_float(a.height.x), json_float(a.height.y)}}};
+    return arch;
 }
-
-void read_textures(JsonObject &o, GenConfig::Textures &t) {
-    read_prob(o, "p_floor_wood", t.p_floor_wood);
-    read_prob(o, "p_floor_tiles", t.p_floor_tiles);
-    if (t.p_floor_wood + t.p_floor_tiles > 1.f)
-        LTM_THROW(o.where("p_floor_tiles"), ": p_floor_wood + p_floor_tiles must be <= 1");
-    read_prob(o, "p_wall_pattern", t.p_wall_pattern);
-    read_prob(o, "p_accent_wall", t.p_accent_wall);
-    read_prob(o, "p_carpet_pattern", t.p_carpet_pattern);
-    read_prob(o, "p_furniture_wood", t.p_furniture_wood);
-    read_prob(o, "p_fabric_pattern", t.p_fabric_pattern);
-    read_prob(o, "p_saturated_fabric", t.p_saturated_fabric);
-    read_range(o, "wood_scale", t.wood_scale, 0.001f, 100.f);
-    read_range(o, "tile_scale", t.tile_scale, 0.001f, 100.f);
-    read_range(o, "stripe_scale", t.stripe_scale, 0.001f, 100.f);
-    read_range(o, "noise_scale", t.noise_scale, 0.001f, 100.f);
-    read_float(o, "color_jitter", t.color_jitter, 0.f, 0.5f);
-    o.finish();
-}
-
-void read_lights(JsonObject &o, GenConfig::Lights &l) {
-    read_int_range(o, "per_room", l.per_room, 1, 64);
-    read_range(o, "size", l.size, 0.05f, 20.f);
-    read_range(o, "temperature", l.temperature, 1000.f, 40000.f);
-    read_range(o, "power_density", l.power_density, 0.f, 1e5f);
-    read_float(o, "wall_margin", l.wall_margin, 0.f, 10.f);
-    read_float(o, "light_gap", l.light_gap, 0.f, 10.f);
-    read_float(o, "tall_height", l.tall_height, 0.f, 20.f);
-    read_float(o, "tall_clearance", l.tall_clearance, 0.f, 10.f);
-    read_float(o, "ceiling_gap", l.ceiling_gap, 0.0001f, 0.1f);
-    read_prob(o, "p_ajar", l.p_ajar);
-    read_int(o, "max_attempts", l.max_attempts, 1, 100000);
-    o.finish();
-}
-
-void read_camera(JsonObject &o, GenConfig::CameraCfg &c) {
-    read_int(o, "width", c.width, 1, 16384);
-    read_int(o, "height", c.height, 1, 16384);
-    read_range(o, "fov_y", c.fov_y, 1.f, 170.f);
-    read_range(o, "eye_height", c.eye_height, 0.1f, 20.f);
-    read_range(o, "target_height", c.target_height, 0.f, 20.f);
-    read_float(o, "wall_margin", c.wall_margin, 0.f, 10.f);
-    read_float(o, "furniture_clearance", c.furniture_clearance, 0.f, 10.f);
-    read_int(o, "n_candidates", c.n_candidates, 1, 100000);
-    o.finish();
-}
-
 }  // namespace
 
 GenConfig GenConfig::from_json(const Json &j, const std::string &where) {
     GenConfig c;
     JsonObject root(j, where);
-    auto section = [&](const char *key, auto &&reader) {
-        if (!root.has(key)) return;
-        JsonObject o = root.require_object(key);
-        reader(o);
+    auto section = [&](const char *key, auto &member, const auto &rest) {
+        if (root.has(key)) member = std::decay_t<decltype(member)>::fields().read(root.require(key), root.where(key), member, rest);
     };
-    section("plan", [&](JsonObject &o) { read_plan(o, c.plan); });
-    section("rooms", [&](JsonObject &o) { read_rooms(o, c.rooms); });
-    section("walls", [&](JsonObject &o) {
-        read_float(o, "thickness", c.walls.thickness, 0.01f, 2.f);
-        o.finish();
+    section("plan", c.plan, [](JsonObject &o, Plan &p) {
+        if (!(p.weight_single + p.weight_l_room + p.weight_bsp + p.weight_hallway + p.weight_l_split > 0.f))
+            LTM_THROW(o.where(), ": the plan weights must not all be zero");
     });
-    section("doors", [&](JsonObject &o) { read_doors(o, c.doors); });
-    section("furniture", [&](JsonObject &o) { read_furniture(o, c.furniture); });
-    section("textures", [&](JsonObject &o) { read_textures(o, c.textures); });
-    section("lights", [&](JsonObject &o) { read_lights(o, c.lights); });
-    section("camera", [&](JsonObject &o) { read_camera(o, c.camera); });
+    section("rooms", c.rooms, nullptr);
+    section("walls", c.walls, nullptr);
+    section("doors", c.doors, nullptr);
+    section("furniture", c.furniture, [](JsonObject &o, Furniture &f) {
+        if (o.has("archetypes")) {
+            JsonObject ao = o.require_object("archetypes");
+            read_archetypes(ao, f.archetypes);
+        }
+    });
+    section("textures", c.textures, [](JsonObject &o, Textures &t) {
+        if (t.p_floor_wood + t.p_floor_tiles > 1.f)
+            LTM_THROW(o.where("p_floor_tiles"), ": p_floor_wood + p_floor_tiles must be <= 1");
+    });
+    section("lights", c.lights, nullptr);
+    section("camera", c.camera, nullptr);
     root.finish();
 
     // Cross-field checks: a door with its corner margins must fit on the shortest wall.
@@ -216,94 +222,15 @@ GenConfig GenConfig::from_json(const Json &j, const std::string &where) {
 
 OrderedJson GenConfig::to_json() const {
     OrderedJson j;
-    OrderedJson &p = j["plan"];
-    p["weight_single"] = json_float(plan.weight_single);
-    p["weight_l_room"] = json_float(plan.weight_l_room);
-    p["weight_bsp"] = json_float(plan.weight_bsp);
-    p["weight_hallway"] = json_float(plan.weight_hallway);
-    p["weight_l_split"] = json_float(plan.weight_l_split);
-    p["footprint_size"] = range_json(plan.footprint_size);
-    p["n_rooms"] = range_json(plan.n_rooms);
-    p["split_fraction"] = range_json(plan.split_fraction);
-    p["l_cut_fraction"] = range_json(plan.l_cut_fraction);
-    p["hallway_width"] = range_json(plan.hallway_width);
-    p["hallway_rooms_per_side"] = range_json(plan.hallway_rooms_per_side);
-    p["p_hallway_two_sided"] = json_float(plan.p_hallway_two_sided);
-    p["snap"] = json_float(plan.snap);
-    p["max_attempts"] = plan.max_attempts;
-
-    OrderedJson &r = j["rooms"];
-    r["size"] = range_json(rooms.size);
-    r["l_room_size"] = range_json(rooms.l_room_size);
-    r["min_side"] = json_float(rooms.min_side);
-    r["ceiling_height"] = range_json(rooms.ceiling_height);
-
-    j["walls"]["thickness"] = json_float(walls.thickness);
-
-    OrderedJson &d = j["doors"];
-    d["width"] = range_json(doors.width);
-    d["height"] = range_json(doors.height);
-    d["corner_margin"] = json_float(doors.corner_margin);
-    d["p_extra"] = json_float(doors.p_extra);
-    d["clear_depth"] = json_float(doors.clear_depth);
-    d["clear_side"] = json_float(doors.clear_side);
-
-    OrderedJson &f = j["furniture"];
-    f["density"] = range_json(furniture.density);
-    f["items_per_room"] = range_json(furniture.items_per_room);
-    f["hallway_density_scale"] = json_float(furniture.hallway_density_scale);
-    f["clearance"] = json_float(furniture.clearance);
-    f["wall_gap"] = json_float(furniture.wall_gap);
-    f["p_carpet"] = json_float(furniture.p_carpet);
-    f["max_attempts"] = furniture.max_attempts;
-    f["ajar_light_room_max_items"] = furniture.ajar_light_room_max_items;
-    OrderedJson &arch = f["archetypes"];
-    arch = OrderedJson::object();
-    for (const auto &[name, a] : furniture.archetypes) {   // std::map: sorted, stable
-        OrderedJson &aj = arch[name];
-        aj["weight"] = json_float(a.weight);
-        aj["width"] = range_json(a.width);
-        aj["depth"] = range_json(a.depth);
-        aj["height"] = range_json(a.height);
-    }
-
-    OrderedJson &t = j["textures"];
-    t["p_floor_wood"] = json_float(textures.p_floor_wood);
-    t["p_floor_tiles"] = json_float(textures.p_floor_tiles);
-    t["p_wall_pattern"] = json_float(textures.p_wall_pattern);
-    t["p_accent_wall"] = json_float(textures.p_accent_wall);
-    t["p_carpet_pattern"] = json_float(textures.p_carpet_pattern);
-    t["p_furniture_wood"] = json_float(textures.p_furniture_wood);
-    t["p_fabric_pattern"] = json_float(textures.p_fabric_pattern);
-    t["p_saturated_fabric"] = json_float(textures.p_saturated_fabric);
-    t["wood_scale"] = range_json(textures.wood_scale);
-    t["tile_scale"] = range_json(textures.tile_scale);
-    t["stripe_scale"] = range_json(textures.stripe_scale);
-    t["noise_scale"] = range_json(textures.noise_scale);
-    t["color_jitter"] = json_float(textures.color_jitter);
-
-    OrderedJson &l = j["lights"];
-    l["per_room"] = range_json(lights.per_room);
-    l["size"] = range_json(lights.size);
-    l["temperature"] = range_json(lights.temperature);
-    l["power_density"] = range_json(lights.power_density);
-    l["wall_margin"] = json_float(lights.wall_margin);
-    l["light_gap"] = json_float(lights.light_gap);
-    l["tall_height"] = json_float(lights.tall_height);
-    l["tall_clearance"] = json_float(lights.tall_clearance);
-    l["ceiling_gap"] = json_float(lights.ceiling_gap);
-    l["p_ajar"] = json_float(lights.p_ajar);
-    l["max_attempts"] = lights.max_attempts;
-
-    OrderedJson &c = j["camera"];
-    c["width"] = camera.width;
-    c["height"] = camera.height;
-    c["fov_y"] = range_json(camera.fov_y);
-    c["eye_height"] = range_json(camera.eye_height);
-    c["target_height"] = range_json(camera.target_height);
-    c["wall_margin"] = json_float(camera.wall_margin);
-    c["furniture_clearance"] = json_float(camera.furniture_clearance);
-    c["n_candidates"] = camera.n_candidates;
+    j["plan"] = Plan::fields().write(plan);
+    j["rooms"] = Rooms::fields().write(rooms);
+    j["walls"] = Walls::fields().write(walls);
+    j["doors"] = Doors::fields().write(doors);
+    j["furniture"] = Furniture::fields().write(furniture);
+    j["furniture"]["archetypes"] = archetypes_json(furniture.archetypes);
+    j["textures"] = Textures::fields().write(textures);
+    j["lights"] = Lights::fields().write(lights);
+    j["camera"] = CameraCfg::fields().write(camera);
     return j;
 }
 

@@ -107,6 +107,17 @@ TEST(GenConfig, TopLevelMustBeAnObject) {
 }  // namespace
 }  // namespace ltm
 
+// docs/config.md shows each section's table as its description prints it (on failure: paste it).
+TEST(GenConfig, DocsTablesAreTheDescriptions) {
+    const std::string doc = ltm::read_file(LTM_SOURCE_DIR "/docs/config.md");
+    using G = ltm::GenConfig;
+    for (const std::string &table : {G::Plan::fields().markdown_table(), G::Rooms::fields().markdown_table(),
+                                     G::Walls::fields().markdown_table(), G::Doors::fields().markdown_table(),
+                                     G::Furniture::fields().markdown_table(), G::Textures::fields().markdown_table(),
+                                     G::Lights::fields().markdown_table(), G::CameraCfg::fields().markdown_table()})
+        EXPECT_NE(doc.find(table), std::string::npos) << "docs/config.md lacks this table:\n" << table;
+}
+
 // docs/config.md documents every key of the shipped config (docs drift otherwise).
 TEST(GenConfig, EveryKeyIsDocumented) {
     const std::string doc = ltm::read_file(LTM_SOURCE_DIR "/docs/config.md");

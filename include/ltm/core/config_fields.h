@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -21,6 +22,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/json_util.h"
+#include "ltm/core/math.h"
 
 namespace ltm {
 
@@ -28,7 +30,13 @@ namespace ltm {
 struct FieldLimits {
     double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
     bool hi_open = false;
-    bool contains(double v) const { return v >= lo && (hi_open ? v < hi : v <= hi); }
+    /// Compared in the value's own type (a float field's bound 1e-4 is the float 1e-4f).
+    template <class V>
+    bool contains(V v) const {
+        const V l = std::isfinite(lo) ? V(lo) : std::numeric_limits<V>::lowest();
+        const V h = std::isfinite(hi) ? V(hi) : std::numeric_limits<V>::max();
+        return v >= l && (hi_open ? v < h : v <= h);
+    }
     bool bounded() const { return std::isfinite(lo) || std::isfinite(hi); }
 };
 inline FieldLimits at_least(double lo) { return {lo}; }
@@ -48,7 +56,10 @@ struct member_value<V C::*> {
 template <class T>
 class ConfigFields {
 public:
-    using Member = std::variant<int T::*, float T::*, bool T::*, std::string T::*, uint64_t T::*>;
+    /// Vec2f and IntRange are [lo, hi] ranges (lo <= hi); their limits bound both ends.
+    using Member = std::variant<int T::*, float T::*, bool T::*, std::string T::*, uint64_t T::*, Vec2f T::*, IntRange T::*>;
+    /// Reads what the fields do not: keys of nested objects, cross-field checks (before finish()).
+    using Rest = std::function<void(JsonObject &, T &)>;
     struct Field {
         std::string key;
         Member member;
@@ -65,7 +76,7 @@ public:
     const std::vector<Field> &fields() const { return m_fields; }
 
     /// `out` (the defaults) with the keys present in j; throws ltm::Error naming where/key.
-    T read(const Json &j, const std::string &where, T out = T{}) const {
+    T read(const Json &j, const std::string &where, T out = T{}, const Rest &rest = {}) const {
         JsonObject o(j, where);
         for (const Field &f : m_fields) {
             if (!o.has(f.key)) continue;
@@ -80,9 +91,22 @@ public:
                         const int x = o.get_int(f.key, 0);
                         if (x < 0) LTM_THROW(o.where(f.key), ": must be >= 0");
                         v = uint64_t(x);
+                    } else if constexpr (std::is_same_v<V, Vec2f>) {
+                        v = o.get_range(f.key, v);   // checks lo <= hi
+                        if (!f.limits.contains(v.x) || !f.limits.contains(v.y))
+                            LTM_THROW(o.where(f.key), ": range ", range_text(json_value(v)), " must lie in ", limits_text(f.limits));
+                    } else if constexpr (std::is_same_v<V, IntRange>) {
+                        const Json &r = o.require(f.key);
+                        if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
+                            LTM_THROW(o.where(f.key), ": expected an integer range [lo, hi]");
+                        const int64_t a = r[0].get<int64_t>(), b = r[1].get<int64_t>();
+                        if (a > b) LTM_THROW(o.where(f.key), ": range has lo > hi: [", a, ", ", b, "]");
+                        if (!f.limits.contains(a) || !f.limits.contains(b))
+                            LTM_THROW(o.where(f.key), ": range [", a, ", ", b, "] must lie in ", limits_text(f.limits));
+                        v = {int(a), int(b)};
                     } else v = o.get_int(f.key, v);
                     if constexpr (std::is_arithmetic_v<V> && !std::is_same_v<V, bool>)
-                        if (!f.limits.contains(double(v)))
+                        if (!f.limits.contains(v))
                             LTM_THROW(o.where(f.key), ": ", json_value(v), " is outside ", limits_text(f.limits));
                     if constexpr (std::is_same_v<V, std::string>)
                         if (!f.choices.empty() && std::find(f.choices.begin(), f.choices.end(), v) == f.choices.end())
@@ -90,6 +114,7 @@ public:
                 },
                 f.member);
         }
+        if (rest) rest(o, out);
         o.finish();
         return out;
     }
@@ -114,7 +139,7 @@ public:
                     if constexpr (std::is_same_v<V, bool>) allowed = "true, false";
                     else if constexpr (std::is_same_v<V, std::string>) allowed = f.choices.empty() ? "text" : join(f.choices, ", ", "`");
                     else allowed = f.limits.bounded() ? limits_text(f.limits) : "any";
-                    s << "| `" << f.key << "` | `" << json_value(d.*m).dump() << "` | " << allowed << " | " << f.doc << " |\n";
+                    s << "| `" << f.key << "` | `" << range_text(json_value(d.*m)) << "` | " << allowed << " | " << f.doc << " |\n";
                 },
                 f.member);
         }
@@ -125,7 +150,14 @@ private:
     template <class V>
     static OrderedJson json_value(const V &v) {
         if constexpr (std::is_same_v<V, float>) return json_float(v);
+        else if constexpr (std::is_same_v<V, Vec2f>) return OrderedJson::array({json_float(v.x), json_float(v.y)});
+        else if constexpr (std::is_same_v<V, IntRange>) return OrderedJson::array({v.lo, v.hi});
         else return v;
+    }
+    /// A value as the docs show it: "[0.8, 1.0]" for ranges (JSON with a space after commas).
+    static std::string range_text(const OrderedJson &j) {
+        if (!j.is_array()) return j.dump();
+        return "[" + j[0].dump() + ", " + j[1].dump() + "]";
     }
     static std::string number(double x) {
         std::ostringstream s;

@@ -12,6 +12,11 @@ namespace ltm {
 inline constexpr float k_pi = 3.14159265358979323846f;
 inline constexpr float k_inv_pi = 0.31830988618379067154f;
 
+/// Inclusive integer range [lo, hi] (a config's count range).
+struct IntRange {
+    int lo = 0, hi = 0;
+};
+
 struct Vec2f {
     float x = 0, y = 0;
 };

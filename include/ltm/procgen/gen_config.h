@@ -5,15 +5,11 @@
 #include <map>
 #include <string>
 
+#include "ltm/core/config_fields.h"
 #include "ltm/core/json_util.h"
 #include "ltm/core/math.h"
 
 namespace ltm {
-
-/// Inclusive integer range [lo, hi].
-struct IntRange {
-    int lo = 0, hi = 0;
-};
 
 /// Size ranges of one furniture archetype, in its local frame: width along the wall it backs
 /// onto (x), depth away from the wall (z), height (y). Metres.
@@ -29,6 +25,8 @@ std::map<std::string, ArchetypeRanges> default_archetypes();
 
 struct GenConfig {
     struct Plan {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Plan> &fields();
         float weight_single = 0.25f;    ///< relative frequency: one rectangular room
         float weight_l_room = 0.15f;    ///< one L-shaped room
         float weight_bsp = 0.3f;        ///< rectangle split into rooms by binary space partition
@@ -46,6 +44,8 @@ struct GenConfig {
     } plan;
 
     struct Rooms {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Rooms> &fields();
         Vec2f size{2.5f, 7.f};            ///< sides of single rooms and of hallway rooms (m)
         Vec2f l_room_size{4.f, 8.f};      ///< bounding sides of an L-shaped single room (m)
         float min_side = 2.2f;            ///< no partition cell gets a side shorter than this (m)
@@ -53,10 +53,14 @@ struct GenConfig {
     } rooms;
 
     struct Walls {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Walls> &fields();
         float thickness = 0.1f;   ///< interior wall thickness (m); door openings go through it
     } walls;
 
     struct Doors {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Doors> &fields();
         Vec2f width{0.8f, 1.0f};    ///< m
         Vec2f height{2.0f, 2.2f};   ///< m, clamped below the ceiling
         float corner_margin = 0.15f;  ///< min distance from a door to a wall corner (m)
@@ -66,6 +70,8 @@ struct GenConfig {
     } doors;
 
     struct Furniture {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Furniture> &fields();
         Vec2f density{0.12f, 0.3f};       ///< items per m² of room floor
         IntRange items_per_room{1, 10};   ///< clamp of the density-derived count
         float hallway_density_scale = 0.3f;  ///< hallways hold fewer items
@@ -78,6 +84,8 @@ struct GenConfig {
     } furniture;
 
     struct Textures {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Textures> &fields();
         float p_floor_wood = 0.45f;        ///< floor gets a wood texture
         float p_floor_tiles = 0.2f;        ///< floor gets checker tiles (else plain)
         float p_wall_pattern = 0.1f;       ///< striped wallpaper
@@ -94,6 +102,8 @@ struct GenConfig {
     } textures;
 
     struct Lights {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Lights> &fields();
         IntRange per_room{1, 3};             ///< ceiling lights in each lit room
         Vec2f size{0.3f, 1.2f};              ///< side of a rectangular light (m)
         Vec2f temperature{2700.f, 6500.f};   ///< colour temperature (K)
@@ -110,6 +120,8 @@ struct GenConfig {
     } lights;
 
     struct CameraCfg {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<CameraCfg> &fields();
         int width = 512, height = 512;    ///< pixels
         Vec2f fov_y{55.f, 70.f};          ///< vertical field of view (degrees)
         Vec2f eye_height{1.4f, 1.7f};     ///< m
