@@ -26,6 +26,7 @@
 #include "ltm/train/distributed.h"
 #include "ltm/train/trainer.h"
 #include "rank_launcher.h"
+#include "small_dataset.h"
 #include "test_util.h"
 
 extern char **environ;
@@ -36,22 +37,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string &dataset_dir() {
-    static const std::string dir = [] {
-        const std::string d = fs::temp_directory_path() / ("ltm_distributed_test_data_" + std::to_string(::getpid()));
-        BuildOptions opt;
-        opt.preset = DataPreset::from_file(test::source_path("configs/data/ci.json"));
-        opt.preset.query_points = 1024;
-        opt.preset.spp = 16;
-        opt.seeds = {21, 22, 23};
-        opt.out_dir = d;
-        set_log_level(LogLevel::quiet);
-        build_dataset(opt);
-        return d;
-    }();
-    static const struct Cleanup {
-        std::string path;
-        ~Cleanup() { fs::remove_all(path); }
-    } cleanup{dir};
+    static const std::string dir = test::build_small_dataset("ltm_distributed_test_data", {21, 22, 23}, 1024, 16);
+    static const test::RemoveAtExit cleanup{dir};
     return dir;
 }
 

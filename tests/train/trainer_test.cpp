@@ -9,6 +9,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/train/trainer.h"
+#include "small_dataset.h"
 #include "test_util.h"
 
 using namespace ltm;
@@ -16,23 +17,8 @@ using namespace ltm;
 namespace {
 // One small dataset shared by the tests of this file (built once).
 const std::string &dataset_dir() {
-    static const std::string dir = [] {
-        const std::string d = std::filesystem::temp_directory_path() / ("ltm_trainer_test_data_" + std::to_string(::getpid()));
-        BuildOptions opt;
-        opt.preset = DataPreset::from_file(test::source_path("configs/data/ci.json"));
-        opt.preset.query_points = 2048;
-        opt.preset.spp = 32;
-        opt.seeds = {11, 12};
-        opt.out_dir = d;
-        set_log_level(LogLevel::quiet);
-        build_dataset(opt);
-        return d;
-    }();
-    // Removed when the test program exits (the tests of this file share it).
-    static const struct Cleanup {
-        std::string path;
-        ~Cleanup() { std::filesystem::remove_all(path); }
-    } cleanup{dir};
+    static const std::string dir = test::build_small_dataset("ltm_trainer_test_data", {11, 12}, 2048, 32);
+    static const test::RemoveAtExit cleanup{dir};
     return dir;
 }
 TrainConfig small_train(int steps) {
