@@ -12,13 +12,16 @@ struct Toy {
     bool on = true;
     std::string mode = "a";
     uint64_t seed = 7;
+    float eps = 1.f;
     static const ConfigFields<Toy> &fields() {
         static const ConfigFields<Toy> f = ConfigFields<Toy>()
                                                .field("n", &Toy::n, "a count", at_least(1))
                                                .field("rate", &Toy::rate, "a share", from_below(0, 1))
                                                .field("on", &Toy::on, "a switch")
                                                .field("mode", &Toy::mode, "a choice", {}, {"a", "b"})
-                                               .field("seed", &Toy::seed, "a seed");
+                                               .field("seed", &Toy::seed, "a seed")
+                                               .field("eps", &Toy::eps, "a positive number", positive())
+                                               .omit_default();
         return f;
     }
 };
@@ -41,7 +44,10 @@ TEST(ConfigFields, ReadsWhatIsGivenAndKeepsTheDefaults) {
     EXPECT_TRUE(t.on);
     // Written back in declaration order, floats in their shortest form; reading that is the identity.
     const OrderedJson j = Toy::fields().write(t);
-    EXPECT_EQ(j.dump(), R"({"n":5,"rate":0.5,"on":true,"mode":"b","seed":9})");
+    EXPECT_EQ(j.dump(), R"({"n":5,"rate":0.5,"on":true,"mode":"b","seed":9})");   // eps: default, omitted
+    Toy v = t;
+    v.eps = 2.f;
+    EXPECT_EQ(Toy::fields().write(v)["eps"], 2.0);
     const Toy u = Toy::fields().read(Json::parse(j.dump()), "again");
     EXPECT_EQ(Toy::fields().write(u), j);
 }
@@ -53,6 +59,8 @@ TEST(ConfigFields, BadValuesAreLocatedErrors) {
     EXPECT_NE(error_of(R"({"n": "x"})").find("toy.json: /n"), std::string::npos);
     EXPECT_NE(error_of(R"({"m": 1})").find("unknown key 'm'"), std::string::npos);
     EXPECT_NE(error_of(R"({"seed": -1})").find("must be >= 0"), std::string::npos);
+    EXPECT_EQ(error_of(R"({"eps": 0.0})"), "toy.json: /eps: 0.0 is outside > 0");   // a float's smallest step is not 0
+    EXPECT_EQ(error_of(R"({"eps": 1e-30})"), "");
 }
 
 TEST(ConfigFields, TableShowsDefaultsLimitsAndDocs) {
@@ -62,5 +70,6 @@ TEST(ConfigFields, TableShowsDefaultsLimitsAndDocs) {
               "| `rate` | `0.5` | [0, 1) | a share |\n"
               "| `on` | `true` | true, false | a switch |\n"
               "| `mode` | `\"a\"` | `a`, `b` | a choice |\n"
-              "| `seed` | `7` | any | a seed |\n");
+              "| `seed` | `7` | any | a seed |\n"
+              "| `eps` | `1.0` | > 0 | a positive number |\n");
 }

@@ -26,24 +26,25 @@
 
 namespace ltm {
 
-/// Allowed values of a numeric field: lo <= v <= hi, or v < hi when hi_open.
+/// Allowed values of a numeric field: lo <= v <= hi; lo < v when lo_open, v < hi when hi_open.
 struct FieldLimits {
     double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
-    bool hi_open = false;
+    bool hi_open = false, lo_open = false;
     /// Compared in the value's own type (a float field's bound 1e-4 is the float 1e-4f).
     template <class V>
     bool contains(V v) const {
         const V l = std::isfinite(lo) ? V(lo) : std::numeric_limits<V>::lowest();
         const V h = std::isfinite(hi) ? V(hi) : std::numeric_limits<V>::max();
-        return v >= l && (hi_open ? v < h : v <= h);
+        return (lo_open ? v > l : v >= l) && (hi_open ? v < h : v <= h);
     }
     bool bounded() const { return std::isfinite(lo) || std::isfinite(hi); }
 };
 inline FieldLimits at_least(double lo) { return {lo}; }
 inline FieldLimits between(double lo, double hi) { return {lo, hi}; }
-inline FieldLimits from_below(double lo, double hi) { return {lo, hi, true}; }   ///< [lo, hi)
+inline FieldLimits from_below(double lo, double hi) { return {lo, hi, true}; }     ///< [lo, hi)
+inline FieldLimits above_up_to(double lo, double hi) { return {lo, hi, false, true}; }   ///< (lo, hi]
 /// Strictly positive (written "> 0").
-inline FieldLimits positive() { return {std::nextafter(0.0, 1.0)}; }
+inline FieldLimits positive() { return {0.0, std::numeric_limits<double>::infinity(), false, true}; }
 
 /// The value type V of a member pointer V T::*.
 template <class M>
@@ -66,11 +67,18 @@ public:
         std::string doc;
         FieldLimits limits;
         std::vector<std::string> choices;   ///< string fields: the allowed values (empty: any)
+        bool omit_default = false;          ///< write() leaves the key out while it has T{}'s value
     };
 
     ConfigFields &field(std::string key, Member member, std::string doc, FieldLimits limits = {},
                         std::vector<std::string> choices = {}) {
         m_fields.push_back({std::move(key), member, std::move(doc), limits, std::move(choices)});
+        return *this;
+    }
+    /// The last field is written only when it differs from T{}'s value: files and checkpoints
+    /// from before a key existed keep their exact JSON.
+    ConfigFields &omit_default() {
+        m_fields.back().omit_default = true;
         return *this;
     }
     const std::vector<Field> &fields() const { return m_fields; }
@@ -122,12 +130,19 @@ public:
     /// Every field, in declaration order.
     OrderedJson write(const T &c) const {
         OrderedJson j = OrderedJson::object();
-        for (const Field &f : m_fields) std::visit([&](auto m) { j[f.key] = json_value(c.*m); }, f.member);
+        const T d{};
+        for (const Field &f : m_fields)
+            std::visit(
+                [&](auto m) {
+                    if (!f.omit_default || json_value(c.*m) != json_value(d.*m)) j[f.key] = json_value(c.*m);
+                },
+                f.member);
         return j;
     }
 
-    /// | key | default | allowed | meaning | — the defaults are T{}'s.
-    std::string markdown_table() const {
+    /// | key | default | allowed | meaning | — the defaults are T{}'s; keys shown as prefix + key
+    /// (e.g. "decoder." for a nested section).
+    std::string markdown_table(const std::string &prefix = "") const {
         const T d{};
         std::ostringstream s;
         s << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
@@ -139,7 +154,7 @@ public:
                     if constexpr (std::is_same_v<V, bool>) allowed = "true, false";
                     else if constexpr (std::is_same_v<V, std::string>) allowed = f.choices.empty() ? "text" : join(f.choices, ", ", "`");
                     else allowed = f.limits.bounded() ? limits_text(f.limits) : "any";
-                    s << "| `" << f.key << "` | `" << range_text(json_value(d.*m)) << "` | " << allowed << " | " << f.doc << " |\n";
+                    s << "| `" << prefix << f.key << "` | `" << range_text(json_value(d.*m)) << "` | " << allowed << " | " << f.doc << " |\n";
                 },
                 f.member);
         }
@@ -166,10 +181,9 @@ private:
         return s.str();
     }
     static std::string limits_text(const FieldLimits &l) {
-        if (l.lo == std::nextafter(0.0, 1.0) && !std::isfinite(l.hi)) return "> 0";
-        if (!std::isfinite(l.hi)) return ">= " + number(l.lo);
+        if (!std::isfinite(l.hi)) return (l.lo_open ? "> " : ">= ") + number(l.lo);
         if (!std::isfinite(l.lo)) return (l.hi_open ? "< " : "<= ") + number(l.hi);
-        return "[" + number(l.lo) + ", " + number(l.hi) + (l.hi_open ? ")" : "]");
+        return (l.lo_open ? "(" : "[") + number(l.lo) + ", " + number(l.hi) + (l.hi_open ? ")" : "]");
     }
     static std::string join(const std::vector<std::string> &v, const char *sep, const char *quote = "") {
         std::string s;

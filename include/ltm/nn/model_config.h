@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "ltm/core/config_fields.h"
 #include "ltm/core/json_util.h"
 #include "ltm/nn/ptv3.h"
 
@@ -18,6 +19,8 @@ struct EmbeddingConfig {
     /// Feed the absolute position p_j to 𝓕 (eq. 5). Not a JSON key: LtmModel sets it from
     /// PhysicsConfig::translation_invariant (off: 𝓕 sees normal, albedo, emission only).
     bool absolute_position = true;
+    /// The JSON keys (core/config_fields.h).
+    static const ConfigFields<EmbeddingConfig> &fields();
 };
 
 /// Local query decoder (paper eqs. 9–14) or the knn-mean ablation.
@@ -31,6 +34,8 @@ struct DecoderConfig {
     /// Feed the query's absolute position to 𝓗 (eq. 9); positions still enter as Δp (eq. 10). Not
     /// a JSON key: LtmModel sets it from PhysicsConfig::translation_invariant.
     bool absolute_position = true;
+    /// The JSON keys (core/config_fields.h).
+    static const ConfigFields<DecoderConfig> &fields();
 };
 
 /// Exact physical normalisations (docs/config.md, the `physics.*` keys). Light transport is
@@ -70,6 +75,8 @@ struct PhysicsConfig {
     float prior_visibility = 0.f;
 
     static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f}; }
+    /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.
+    static const ConfigFields<PhysicsConfig> &fields();
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }
 };
 
