@@ -12,15 +12,18 @@
 #include <thread>
 
 #include <c10/util/Exception.h>
+#ifdef LTM_HAVE_GLOO
 #include <torch/csrc/distributed/c10d/PrefixStore.hpp>
 #include <torch/csrc/distributed/c10d/ProcessGroupGloo.hpp>
 #include <torch/csrc/distributed/c10d/TCPStore.hpp>
+#endif
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 
 namespace ltm {
 
+#ifdef LTM_HAVE_GLOO
 namespace {
 
 std::string first_line(const std::exception &e) {
@@ -76,11 +79,16 @@ bool reachable(const std::string &host, int port, double timeout_s) {
 }
 
 }  // namespace
+#endif
 
+#ifdef LTM_HAVE_GLOO
 struct Communicator::Impl {
     c10::intrusive_ptr<c10d::Store> store;
     c10::intrusive_ptr<c10d::ProcessGroupGloo> group;
 };
+#else
+struct Communicator::Impl {};
+#endif
 
 Communicator::Communicator(const DistSettings &s, const std::string &fingerprint) : m_settings(s) {
     const std::string who = "rank " + std::to_string(s.rank) + "/" + std::to_string(s.world_size);
@@ -89,6 +97,10 @@ Communicator::Communicator(const DistSettings &s, const std::string &fingerprint
     if (s.master_port < 1 || s.master_port > 65535) LTM_THROW("MASTER_PORT ", s.master_port, ": must be in [1, 65535]");
     if (!(s.timeout_s > 0)) LTM_THROW("distributed timeout ", s.timeout_s, " s: must be > 0");
     if (s.world_size == 1) return;
+#ifndef LTM_HAVE_GLOO
+    (void)fingerprint;
+    LTM_THROW(who, ": this build has no data-parallel backend (built without the gloo headers: install libgloo-dev and rebuild)");
+#else
     const auto timeout = std::chrono::milliseconds(int64_t(s.timeout_s * 1000.0));
     m_impl = std::make_unique<Impl>();
     const std::string master = s.master_addr + ":" + std::to_string(s.master_port);
@@ -158,6 +170,7 @@ Communicator::Communicator(const DistSettings &s, const std::string &fingerprint
         LTM_THROW(who, ": rendezvous at ", master, " failed (", first_line(e), ")");
     }
     log_info(who, ": joined the group at ", master);
+#endif
 }
 
 Communicator::~Communicator() = default;
@@ -192,6 +205,7 @@ void bucketed(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements
 
 void Communicator::all_reduce_sum(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements) {
     if (!m_impl) return;
+#ifdef LTM_HAVE_GLOO
     bucketed(tensors, bucket_elements, [&](torch::Tensor &flat) {
         std::vector<torch::Tensor> one{flat};
         try {
@@ -201,10 +215,14 @@ void Communicator::all_reduce_sum(const std::vector<torch::Tensor> &tensors, int
                       first_line(e), ")");
         }
     });
+#else
+    (void)tensors, (void)bucket_elements;
+#endif
 }
 
 void Communicator::broadcast_from_root(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements) {
     if (!m_impl) return;
+#ifdef LTM_HAVE_GLOO
     bucketed(tensors, bucket_elements, [&](torch::Tensor &flat) {
         std::vector<torch::Tensor> one{flat};
         c10d::BroadcastOptions o;
@@ -216,6 +234,9 @@ void Communicator::broadcast_from_root(const std::vector<torch::Tensor> &tensors
                       first_line(e), ")");
         }
     });
+#else
+    (void)tensors, (void)bucket_elements;
+#endif
 }
 
 std::vector<double> Communicator::all_reduce_sum(const std::vector<double> &values) {
@@ -223,6 +244,14 @@ std::vector<double> Communicator::all_reduce_sum(const std::vector<double> &valu
     auto t = torch::tensor(values, torch::kFloat64);
     all_reduce_sum(std::vector<torch::Tensor>{t});
     return {t.data_ptr<double>(), t.data_ptr<double>() + t.numel()};
+}
+
+bool data_parallel_available() {
+#ifdef LTM_HAVE_GLOO
+    return true;
+#else
+    return false;
+#endif
 }
 
 std::string fingerprint_of(const std::string &s) {

@@ -125,6 +125,7 @@ std::vector<std::string> train_args(const std::string &out, int steps) {
 }  // namespace
 
 TEST(Distributed, TwoRanksTrainTheParametersOfOneProcessWithTheJointBatch) {
+    if (!data_parallel_available()) GTEST_SKIP() << "built without gloo";
     test::TempDir dir;
     Trainer single(tiny(), two_scene_steps(5), {dataset_dir()}, dir.path("single"));
     single.run(false);
@@ -164,6 +165,7 @@ TEST(Distributed, TwoRanksTrainTheParametersOfOneProcessWithTheJointBatch) {
 }
 
 TEST(Distributed, MismatchedGroupsAreRefusedWithTheReason) {
+    if (!data_parallel_available()) GTEST_SKIP() << "built without gloo";
     // Different configs (fingerprints): both ranks say so.
     {
         const int port = cli::free_local_port();
@@ -209,6 +211,7 @@ TEST(Distributed, MismatchedGroupsAreRefusedWithTheReason) {
 // uninterrupted single-process run with the same 2-scene batch (constant lr after warm-up, so
 // the schedule does not depend on --steps).
 TEST(Distributed, NprocRunResumesInOneProcess) {
+    if (!data_parallel_available()) GTEST_SKIP() << "built without gloo";
     test::TempDir dir;
     const std::string err = dir.path("err.txt");
     auto args = [&](const std::string &out, int steps) {
@@ -240,6 +243,7 @@ TEST(Distributed, NprocRunResumesInOneProcess) {
 // SIGKILL one of two ranks mid-run: the survivor exits with an error (no hang) well within 60 s,
 // and a resume (one process) continues from the last checkpoint, at most ckpt_every steps back.
 TEST(Distributed, ALostRankEndsTheGroupAndTheRunResumes) {
+    if (!data_parallel_available()) GTEST_SKIP() << "built without gloo";
     test::TempDir dir;
     const int port = cli::free_local_port();
     auto args = train_args(dir.path("run"), 400);

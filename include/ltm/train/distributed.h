@@ -58,6 +58,9 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
+/// Whether this build has a data-parallel backend (Gloo headers found at configure time).
+bool data_parallel_available();
+
 /// 16 hex digits of FNV-1a over `text`: a short, stable fingerprint for the rendezvous check.
 std::string fingerprint_of(const std::string &text);
 
