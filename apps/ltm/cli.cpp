@@ -10,8 +10,6 @@
 #include "ltm/core/parallel.h"
 #include "ltm/core/startup.h"
 #ifdef LTM_WITH_TORCH
-#include <c10/util/Exception.h>
-
 #include "ltm/nn/torch_runtime.h"
 #endif
 
@@ -30,15 +28,13 @@ std::vector<Command> commands() {
 
 namespace {
 
-// The first line of an exception's message: libtorch's c10::Error appends a multi-line C++
-// backtrace to what() (what_without_backtrace() drops it), and a user sees one line per error.
+// One line per error: libtorch's c10::Error carries a multi-line C++ backtrace after its message.
 std::string error_line(const std::exception &e) {
-    std::string msg = e.what();
 #ifdef LTM_WITH_TORCH
-    if (const auto *t = dynamic_cast<const c10::Error *>(&e)) msg = t->what_without_backtrace();
+    return exception_line(e);
+#else
+    return first_line(e.what());
 #endif
-    const size_t nl = msg.find('\n');
-    return nl == std::string::npos ? msg : msg.substr(0, nl);
 }
 
 void add_common_options(CLI::App &sub, CommonOptions &c) {

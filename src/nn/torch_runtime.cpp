@@ -5,6 +5,8 @@
 
 #include <torch/torch.h>
 
+#include "ltm/core/error.h"
+
 namespace ltm {
 
 std::string torch_runtime_description() {
@@ -15,6 +17,11 @@ std::string torch_runtime_description() {
     else
         s += " (CPU)";
     return s;
+}
+
+std::string exception_line(const std::exception &e) {
+    if (const auto *t = dynamic_cast<const c10::Error *>(&e)) return first_line(t->what_without_backtrace());
+    return first_line(e.what());
 }
 
 void configure_torch_threads(int n_threads) {

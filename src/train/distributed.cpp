@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <thread>
 
-#include <c10/util/Exception.h>
 #ifdef LTM_HAVE_GLOO
 #include <torch/csrc/distributed/c10d/PrefixStore.hpp>
 #include <torch/csrc/distributed/c10d/ProcessGroupGloo.hpp>
@@ -20,18 +19,12 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
+#include "ltm/nn/torch_runtime.h"
 
 namespace ltm {
 
 #ifdef LTM_HAVE_GLOO
 namespace {
-
-std::string first_line(const std::exception &e) {
-    std::string msg = e.what();
-    if (const auto *t = dynamic_cast<const c10::Error *>(&e)) msg = t->what_without_backtrace();
-    const size_t nl = msg.find('\n');
-    return nl == std::string::npos ? msg : msg.substr(0, nl);
-}
 
 std::vector<uint8_t> bytes(const std::string &s) { return {s.begin(), s.end()}; }
 std::string text(const std::vector<uint8_t> &b) { return {b.begin(), b.end()}; }
@@ -91,7 +84,7 @@ struct Communicator::Impl {};
 #endif
 
 Communicator::Communicator(const DistSettings &s, const std::string &fingerprint) : m_settings(s) {
-    const std::string who = "rank " + std::to_string(s.rank) + "/" + std::to_string(s.world_size);
+    const std::string id = who();
     if (s.world_size < 1) LTM_THROW("WORLD_SIZE ", s.world_size, ": must be >= 1");
     if (s.rank < 0 || s.rank >= s.world_size) LTM_THROW("RANK ", s.rank, ": must be in [0, WORLD_SIZE = ", s.world_size, ")");
     if (s.master_port < 1 || s.master_port > 65535) LTM_THROW("MASTER_PORT ", s.master_port, ": must be in [1, 65535]");
@@ -99,13 +92,13 @@ Communicator::Communicator(const DistSettings &s, const std::string &fingerprint
     if (s.world_size == 1) return;
 #ifndef LTM_HAVE_GLOO
     (void)fingerprint;
-    LTM_THROW(who, ": this build has no data-parallel backend (built without the gloo headers: install libgloo-dev and rebuild)");
+    LTM_THROW(id, ": this build has no data-parallel backend (built without the gloo headers: install libgloo-dev and rebuild)");
 #else
     const auto timeout = std::chrono::milliseconds(int64_t(s.timeout_s * 1000.0));
     m_impl = std::make_unique<Impl>();
     const std::string master = s.master_addr + ":" + std::to_string(s.master_port);
     if (s.rank != 0 && !reachable(s.master_addr, s.master_port, s.timeout_s))
-        LTM_THROW(who, ": cannot reach the rendezvous at MASTER_ADDR:MASTER_PORT = ", master, " within ", s.timeout_s,
+        LTM_THROW(id, ": cannot reach the rendezvous at MASTER_ADDR:MASTER_PORT = ", master, " within ", s.timeout_s,
                   " s (is rank 0 running, and the address right?)");
     try {
         c10d::TCPStoreOptions o;
@@ -115,14 +108,14 @@ Communicator::Communicator(const DistSettings &s, const std::string &fingerprint
         o.timeout = timeout;
         m_impl->store = c10::make_intrusive<c10d::TCPStore>(s.master_addr, o);
     } catch (const std::exception &e) {
-        LTM_THROW(who, ": cannot ", s.rank == 0 ? "serve" : "reach", " the rendezvous at MASTER_ADDR:MASTER_PORT = ", master,
-                  " within ", s.timeout_s, " s (", first_line(e), ")");
+        LTM_THROW(id, ": cannot ", s.rank == 0 ? "serve" : "reach", " the rendezvous at MASTER_ADDR:MASTER_PORT = ", master,
+                  " within ", s.timeout_s, " s (", exception_line(e), ")");
     }
     c10d::Store &store = *m_impl->store;
     const std::string ours = announcement(s.world_size, fingerprint);
     try {
         if (store.add("ltm/claim/" + std::to_string(s.rank), 1) > 1)
-            LTM_THROW(who, ": another process already joined as rank ", s.rank, " (is RANK unique per process?)");
+            LTM_THROW(id, ": another process already joined as rank ", s.rank, " (is RANK unique per process?)");
         store.set("ltm/rank/" + std::to_string(s.rank), bytes(ours));
         if (s.rank == 0) {
             // Rank 0 checks every rank against itself and publishes the verdict.
@@ -137,7 +130,7 @@ Communicator::Communicator(const DistSettings &s, const std::string &fingerprint
                 const std::string why = "rank(s) " + missing + " did not join within " + std::to_string(int(s.timeout_s)) +
                                         " s (same WORLD_SIZE on every rank? every rank started?)";
                 store.set("ltm/verdict", bytes(why));
-                LTM_THROW(who, ": ", why);
+                LTM_THROW(id, ": ", why);
             }
             std::string verdict;
             for (int r = 1; r < s.world_size && verdict.empty(); ++r) verdict = disagreement(r, text(store.get(keys[size_t(r)])), 0, ours);
@@ -148,15 +141,15 @@ Communicator::Communicator(const DistSettings &s, const std::string &fingerprint
                 const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
                 while (store.add("ltm/seen", 0) < s.world_size - 1 && std::chrono::steady_clock::now() < until)
                     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-                LTM_THROW(who, ": ", verdict);
+                LTM_THROW(id, ": ", verdict);
             }
         } else {
             const std::string verdict = text(store.get("ltm/verdict"));   // waits for rank 0's
             store.add("ltm/seen", 1);
-            if (verdict != "ok") LTM_THROW(who, ": ", verdict);
+            if (verdict != "ok") LTM_THROW(id, ": ", verdict);
             // A rank beyond rank 0's WORLD_SIZE is not in rank 0's check: compare with it here.
             const std::string why = disagreement(0, text(store.get("ltm/rank/0")), s.rank, ours);
-            if (!why.empty()) LTM_THROW(who, ": ", why);
+            if (!why.empty()) LTM_THROW(id, ": ", why);
         }
         auto opts = c10d::ProcessGroupGloo::Options::create(timeout);
         opts->devices.push_back(is_loopback(s.master_addr) ? c10d::ProcessGroupGloo::createDeviceForHostname("127.0.0.1")
@@ -167,19 +160,24 @@ Communicator::Communicator(const DistSettings &s, const std::string &fingerprint
     } catch (const Error &) {
         throw;
     } catch (const std::exception &e) {
-        LTM_THROW(who, ": rendezvous at ", master, " failed (", first_line(e), ")");
+        LTM_THROW(id, ": rendezvous at ", master, " failed (", exception_line(e), ")");
     }
-    log_info(who, ": joined the group at ", master);
+    log_info(id, ": joined the group at ", master);
 #endif
 }
 
 Communicator::~Communicator() = default;
 
+std::string Communicator::who() const { return "rank " + std::to_string(rank()) + "/" + std::to_string(world_size()); }
+
+#ifdef LTM_HAVE_GLOO
 namespace {
 // Runs one collective over `tensors` bucket by bucket: each bucket is flattened into one buffer,
-// `op` runs on it, and the buffer is copied back.
-template <class Op>
-void bucketed(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements, const Op &op) {
+// start(buffers) issues the collective on it, its completion is awaited (a failure becomes one
+// line naming `who` and `what`), and the buffer is copied back.
+template <class Start>
+void bucketed(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements, const std::string &who, const char *what,
+              const Start &start) {
     size_t i = 0;
     while (i < tensors.size()) {
         size_t j = i;
@@ -190,31 +188,28 @@ void bucketed(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements
             LTM_CHECK(tensors[k].device().is_cpu() && tensors[k].scalar_type() == tensors[i].scalar_type());
             flat_parts.push_back(tensors[k].reshape({-1}));
         }
-        torch::Tensor flat = torch::cat(flat_parts);
-        op(flat);
+        std::vector<torch::Tensor> flat{torch::cat(flat_parts)};
+        try {
+            start(flat)->wait();
+        } catch (const std::exception &e) {
+            LTM_THROW(who, ": ", what, " failed — a peer exited or stopped answering (", exception_line(e), ")");
+        }
         int64_t off = 0;
         for (size_t k = i; k < j; ++k) {
             const int64_t m = tensors[k].numel();
-            tensors[k].view({-1}).copy_(flat.slice(0, off, off + m));
+            tensors[k].view({-1}).copy_(flat[0].slice(0, off, off + m));
             off += m;
         }
         i = j;
     }
 }
 }  // namespace
+#endif
 
 void Communicator::all_reduce_sum(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements) {
     if (!m_impl) return;
 #ifdef LTM_HAVE_GLOO
-    bucketed(tensors, bucket_elements, [&](torch::Tensor &flat) {
-        std::vector<torch::Tensor> one{flat};
-        try {
-            m_impl->group->allreduce(one)->wait();
-        } catch (const std::exception &e) {
-            LTM_THROW("rank ", rank(), "/", world_size(), ": all-reduce failed — a peer exited or stopped answering (",
-                      first_line(e), ")");
-        }
-    });
+    bucketed(tensors, bucket_elements, who(), "all-reduce", [&](std::vector<torch::Tensor> &flat) { return m_impl->group->allreduce(flat); });
 #else
     (void)tensors, (void)bucket_elements;
 #endif
@@ -223,17 +218,9 @@ void Communicator::all_reduce_sum(const std::vector<torch::Tensor> &tensors, int
 void Communicator::broadcast_from_root(const std::vector<torch::Tensor> &tensors, int64_t bucket_elements) {
     if (!m_impl) return;
 #ifdef LTM_HAVE_GLOO
-    bucketed(tensors, bucket_elements, [&](torch::Tensor &flat) {
-        std::vector<torch::Tensor> one{flat};
-        c10d::BroadcastOptions o;
-        o.rootRank = 0;
-        try {
-            m_impl->group->broadcast(one, o)->wait();
-        } catch (const std::exception &e) {
-            LTM_THROW("rank ", rank(), "/", world_size(), ": broadcast failed — a peer exited or stopped answering (",
-                      first_line(e), ")");
-        }
-    });
+    c10d::BroadcastOptions o;
+    o.rootRank = 0;
+    bucketed(tensors, bucket_elements, who(), "broadcast", [&](std::vector<torch::Tensor> &flat) { return m_impl->group->broadcast(flat, o); });
 #else
     (void)tensors, (void)bucket_elements;
 #endif

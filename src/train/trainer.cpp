@@ -148,7 +148,7 @@ TrainStepLog Trainer::train_step() {
     const size_t n = m_train_paths.size();
     TrainStepLog log{t, 0.0, lr, 0.0, false};
     // This rank's block of the K draws (all of them in one process).
-    const int64_t W = m_comm ? m_comm->world_size() : 1, r = m_comm ? m_comm->rank() : 0;
+    const int64_t W = m_comm->world_size(), r = m_comm->rank();
     for (int64_t k = r * K / W; k < (r + 1) * K / W && !log.skipped; ++k) {
         const uint64_t u = uint64_t(t * K + k);
         const uint64_t epoch = u / n;
@@ -176,7 +176,7 @@ TrainStepLog Trainer::train_step() {
         if (!std::isfinite(v)) log.skipped = true;
         else l.backward(), log.loss += v;
     }
-    if (m_comm && m_comm->world_size() > 1) {
+    if (W > 1) {
         // The step's loss and "some rank saw a non-finite loss" are summed like the gradients.
         const std::vector<double> sums = m_comm->all_reduce_sum({log.skipped ? 0.0 : log.loss, log.skipped ? 1.0 : 0.0});
         log.loss = sums[0], log.skipped = sums[1] > 0.0;
@@ -212,7 +212,8 @@ void Trainer::all_reduce_gradients() {
 }
 
 void Trainer::set_communicator(std::shared_ptr<Communicator> comm) {
-    if (comm && m_cfg.scenes_per_step % comm->world_size() != 0)
+    if (!comm) comm = std::make_shared<Communicator>(DistSettings{}, "");   // a group of one
+    if (m_cfg.scenes_per_step % comm->world_size() != 0)
         LTM_THROW("scenes_per_step ", m_cfg.scenes_per_step, " is not a multiple of the world size ", comm->world_size(),
                   " (each rank trains scenes_per_step / WORLD_SIZE scenes per step)");
     m_comm = std::move(comm);
@@ -282,7 +283,7 @@ double Trainer::validate() {
     double sum = 0, sum_mse = 0, chroma = 0, corr = 0, vs_flat = 0, log_level = 0;
     int in_band = 0, beats = 0;
     // Rank r validates scenes r, r + W, ...; the sums are then summed over the ranks.
-    const size_t W = m_comm ? size_t(m_comm->world_size()) : 1, r0 = m_comm ? size_t(m_comm->rank()) : 0;
+    const size_t W = size_t(m_comm->world_size()), r0 = size_t(m_comm->rank());
     for (size_t i = r0; i < m_val_paths.size(); i += W) {
         CachedScene &sc = scene(m_train_paths.size() + i);
         const auto rows = spread_rows(sc.query_points.size(0), m_cfg.val_queries, m_device);
@@ -303,7 +304,7 @@ double Trainer::validate() {
         chroma += f.chroma_error, corr += f.luminance_correlation;
         vs_flat += f.mse / std::max(f.flat_mse, 1e-30);
     }
-    if (m_comm && W > 1) {
+    if (W > 1) {
         const std::vector<double> t = m_comm->all_reduce_sum({sum, sum_mse, chroma, corr, vs_flat, log_level, double(in_band), double(beats)});
         sum = t[0], sum_mse = t[1], chroma = t[2], corr = t[3], vs_flat = t[4], log_level = t[5];
         in_band = int(t[6]), beats = int(t[7]);
@@ -347,7 +348,7 @@ void Trainer::run(bool resume, int64_t stop_at) {
             write_file_atomic(log_path, "");
         }
     }
-    if (m_comm) {
+    if (m_comm->world_size() > 1) {
         // Every rank starts from rank 0's weights (an --init, a resume or a fresh initialisation
         // alike); from then on identical summed gradients keep them identical.
         std::vector<torch::Tensor> state;
@@ -402,7 +403,7 @@ void Trainer::run(bool resume, int64_t stop_at) {
         if (m_step % m_cfg.ckpt_every == 0 || m_step == end) save(last);
     }
     // No rank leaves (closing the store rank 0 serves) before rank 0's last checkpoint is written.
-    if (m_comm) m_comm->all_reduce_sum(std::vector<double>{0.0});
+    m_comm->all_reduce_sum(std::vector<double>{0.0});
 }
 
 }  // namespace ltm

@@ -16,6 +16,10 @@ public:
     explicit Error(const std::string &what) : std::runtime_error(what) {}
 };
 
+/// The first line of an exception's message: what a user is shown (libtorch's messages go on
+/// with a multi-line backtrace; nn/torch_runtime.h's exception_line drops that first).
+inline std::string first_line(const std::string &msg) { return msg.substr(0, msg.find('\n')); }
+
 namespace detail {
 template <typename... Args> std::string concat(const Args &...args) {
     std::ostringstream os;

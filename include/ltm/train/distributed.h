@@ -53,6 +53,7 @@ public:
     std::vector<double> all_reduce_sum(const std::vector<double> &values);
 
 private:
+    std::string who() const;   ///< "rank r/W", the prefix of every error
     struct Impl;
     DistSettings m_settings;
     std::unique_ptr<Impl> m_impl;

@@ -126,7 +126,7 @@ private:
     };
     CachedScene &scene(size_t index);
     TrainStepLog train_step();
-    bool is_root() const { return !m_comm || m_comm->is_root(); }
+    bool is_root() const { return m_comm->is_root(); }
     /// Sums the gradients over the ranks; a parameter keeps no gradient only if no rank gave it one.
     void all_reduce_gradients();
     /// The configured loss in the model's output frame.   z [N, 3], target E⁺ [N, 3] -> scalar
@@ -140,7 +140,8 @@ private:
     torch::Device m_device;
     LtmModel m_model{nullptr};
     std::unique_ptr<torch::optim::AdamW> m_opt;
-    std::shared_ptr<Communicator> m_comm;   ///< null: one process
+    /// The data-parallel group; a group of one (every collective the identity) unless set.
+    std::shared_ptr<Communicator> m_comm = std::make_shared<Communicator>(DistSettings{}, "");
     std::vector<std::string> m_train_paths, m_val_paths;
     std::map<std::string, std::unique_ptr<CachedScene>> m_cache;
     std::vector<TrainStepLog> m_history;
