@@ -73,8 +73,11 @@ TEST(FusedDecoder, MatchesModuleWithAnotherFfnRatio) {
     cfg.dim = 16, cfg.groups = 4, cfg.n_neighbors = 8, cfg.n_layers = 2, cfg.ffn_ratio = 3;
     expect_fused_matches_module(cfg, /*latent_dim=*/24);
     QueryDecoder dec(cfg, 24);
-    for (const auto &p : dec->named_parameters())
-        if (p.key() == "ffn.1.0.weight") EXPECT_EQ(p.value().size(0), 48) << "hidden width = ffn_ratio · dim";
+    for (const auto &p : dec->named_parameters()) {
+        if (p.key() == "ffn.1.0.weight") {
+            EXPECT_EQ(p.value().size(0), 48) << "hidden width = ffn_ratio · dim";
+        }
+    }
     ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/cpu.json"));
     EXPECT_FALSE(mc.to_json()["decoder"].contains("ffn_ratio")) << "default not written: old JSON unchanged";
     mc.decoder.ffn_ratio = 3;

@@ -17,7 +17,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
-#include <variant>
+#include <type_traits>
 #include <vector>
 
 #include "ltm/core/error.h"
@@ -46,33 +46,41 @@ inline FieldLimits above_up_to(double lo, double hi) { return {lo, hi, false, tr
 /// Strictly positive (written "> 0").
 inline FieldLimits positive() { return {0.0, std::numeric_limits<double>::infinity(), false, true}; }
 
-/// The value type V of a member pointer V T::*.
-template <class M>
-struct member_value;
-template <class C, class V>
-struct member_value<V C::*> {
-    using type = V;
-};
-
 template <class T>
 class ConfigFields {
 public:
-    /// Vec2f and IntRange are [lo, hi] ranges (lo <= hi); their limits bound both ends.
-    using Member = std::variant<int T::*, float T::*, bool T::*, std::string T::*, uint64_t T::*, Vec2f T::*, IntRange T::*>;
     /// Reads what the fields do not: keys of nested objects, cross-field checks (before finish()).
     using Rest = std::function<void(JsonObject &, T &)>;
     struct Field {
         std::string key;
-        Member member;
         std::string doc;
         FieldLimits limits;
         std::vector<std::string> choices;   ///< string fields: the allowed values (empty: any)
         bool omit_default = false;          ///< write() leaves the key out while it has T{}'s value
+        std::string allowed;                ///< the docs table's "allowed" column
+        /// Reads the key (present in o) into its member of t, checking type, limits and choices.
+        std::function<void(JsonObject &o, const Field &f, T &t)> read;
+        /// The member of t as JSON.
+        std::function<OrderedJson(const T &t)> value;
     };
 
-    ConfigFields &field(std::string key, Member member, std::string doc, FieldLimits limits = {},
+    /// Field types: int, float, bool, std::string, uint64_t, and the [lo, hi] ranges Vec2f and
+    /// IntRange (lo <= hi; the limits bound both ends). Each member's reader and writer are built
+    /// here for its own type only.
+    template <class V>
+    ConfigFields &field(std::string key, V T::*member, std::string doc, FieldLimits limits = {},
                         std::vector<std::string> choices = {}) {
-        m_fields.push_back({std::move(key), member, std::move(doc), limits, std::move(choices)});
+        static_assert(std::is_same_v<V, int> || std::is_same_v<V, float> || std::is_same_v<V, bool> ||
+                          std::is_same_v<V, std::string> || std::is_same_v<V, uint64_t> ||
+                          std::is_same_v<V, Vec2f> || std::is_same_v<V, IntRange>,
+                      "ConfigFields: unsupported field type");
+        Field f{std::move(key), std::move(doc), limits, std::move(choices)};
+        if constexpr (std::is_same_v<V, bool>) f.allowed = "true, false";
+        else if constexpr (std::is_same_v<V, std::string>) f.allowed = f.choices.empty() ? "text" : join(f.choices, ", ", "`");
+        else f.allowed = limits.bounded() ? limits_text(limits) : "any";
+        f.read = [member](JsonObject &o, const Field &fd, T &t) { read_value(o, fd, t.*member); };
+        f.value = [member](const T &t) { return json_value(t.*member); };
+        m_fields.push_back(std::move(f));
         return *this;
     }
     /// The last field is written only when it differs from T{}'s value: files and checkpoints
@@ -86,42 +94,8 @@ public:
     /// `out` (the defaults) with the keys present in j; throws ltm::Error naming where/key.
     T read(const Json &j, const std::string &where, T out = T{}, const Rest &rest = {}) const {
         JsonObject o(j, where);
-        for (const Field &f : m_fields) {
-            if (!o.has(f.key)) continue;
-            std::visit(
-                [&](auto m) {
-                    using V = typename member_value<decltype(m)>::type;
-                    V &v = out.*m;
-                    if constexpr (std::is_same_v<V, bool>) v = o.get_bool(f.key, v);
-                    else if constexpr (std::is_same_v<V, std::string>) v = o.get_string(f.key, v);
-                    else if constexpr (std::is_same_v<V, float>) v = o.get_float(f.key, v);
-                    else if constexpr (std::is_same_v<V, uint64_t>) {
-                        const int x = o.get_int(f.key, 0);
-                        if (x < 0) LTM_THROW(o.where(f.key), ": must be >= 0");
-                        v = uint64_t(x);
-                    } else if constexpr (std::is_same_v<V, Vec2f>) {
-                        v = o.get_range(f.key, v);   // checks lo <= hi
-                        if (!f.limits.contains(v.x) || !f.limits.contains(v.y))
-                            LTM_THROW(o.where(f.key), ": range ", range_text(json_value(v)), " must lie in ", limits_text(f.limits));
-                    } else if constexpr (std::is_same_v<V, IntRange>) {
-                        const Json &r = o.require(f.key);
-                        if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
-                            LTM_THROW(o.where(f.key), ": expected an integer range [lo, hi]");
-                        const int64_t a = r[0].get<int64_t>(), b = r[1].get<int64_t>();
-                        if (a > b) LTM_THROW(o.where(f.key), ": range has lo > hi: [", a, ", ", b, "]");
-                        if (!f.limits.contains(a) || !f.limits.contains(b))
-                            LTM_THROW(o.where(f.key), ": range [", a, ", ", b, "] must lie in ", limits_text(f.limits));
-                        v = {int(a), int(b)};
-                    } else v = o.get_int(f.key, v);
-                    if constexpr (std::is_arithmetic_v<V> && !std::is_same_v<V, bool>)
-                        if (!f.limits.contains(v))
-                            LTM_THROW(o.where(f.key), ": ", json_value(v), " is outside ", limits_text(f.limits));
-                    if constexpr (std::is_same_v<V, std::string>)
-                        if (!f.choices.empty() && std::find(f.choices.begin(), f.choices.end(), v) == f.choices.end())
-                            LTM_THROW(o.where(f.key), ": '", v, "' is not one of ", join(f.choices, ", "));
-                },
-                f.member);
-        }
+        for (const Field &f : m_fields)
+            if (o.has(f.key)) f.read(o, f, out);
         if (rest) rest(o, out);
         o.finish();
         return out;
@@ -131,12 +105,10 @@ public:
     OrderedJson write(const T &c) const {
         OrderedJson j = OrderedJson::object();
         const T d{};
-        for (const Field &f : m_fields)
-            std::visit(
-                [&](auto m) {
-                    if (!f.omit_default || json_value(c.*m) != json_value(d.*m)) j[f.key] = json_value(c.*m);
-                },
-                f.member);
+        for (const Field &f : m_fields) {
+            OrderedJson v = f.value(c);
+            if (!f.omit_default || v != f.value(d)) j[f.key] = std::move(v);
+        }
         return j;
     }
 
@@ -146,22 +118,43 @@ public:
         const T d{};
         std::ostringstream s;
         s << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
-        for (const Field &f : m_fields) {
-            std::string allowed;
-            std::visit(
-                [&](auto m) {
-                    using V = typename member_value<decltype(m)>::type;
-                    if constexpr (std::is_same_v<V, bool>) allowed = "true, false";
-                    else if constexpr (std::is_same_v<V, std::string>) allowed = f.choices.empty() ? "text" : join(f.choices, ", ", "`");
-                    else allowed = f.limits.bounded() ? limits_text(f.limits) : "any";
-                    s << "| `" << prefix << f.key << "` | `" << range_text(json_value(d.*m)) << "` | " << allowed << " | " << f.doc << " |\n";
-                },
-                f.member);
-        }
+        for (const Field &f : m_fields)
+            s << "| `" << prefix << f.key << "` | `" << range_text(f.value(d)) << "` | " << f.allowed << " | " << f.doc << " |\n";
         return s.str();
     }
 
 private:
+    /// Reads f.key from o into v (V is the member's type).
+    template <class V>
+    static void read_value(JsonObject &o, const Field &f, V &v) {
+        if constexpr (std::is_same_v<V, bool>) v = o.get_bool(f.key, v);
+        else if constexpr (std::is_same_v<V, std::string>) {
+            v = o.get_string(f.key, v);
+            if (!f.choices.empty() && std::find(f.choices.begin(), f.choices.end(), v) == f.choices.end())
+                LTM_THROW(o.where(f.key), ": '", v, "' is not one of ", join(f.choices, ", "));
+        } else if constexpr (std::is_same_v<V, Vec2f>) {
+            v = o.get_range(f.key, v);   // checks lo <= hi
+            if (!f.limits.contains(v.x) || !f.limits.contains(v.y))
+                LTM_THROW(o.where(f.key), ": range ", range_text(json_value(v)), " must lie in ", limits_text(f.limits));
+        } else if constexpr (std::is_same_v<V, IntRange>) {
+            const Json &r = o.require(f.key);
+            if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
+                LTM_THROW(o.where(f.key), ": expected an integer range [lo, hi]");
+            const int64_t a = r[0].get<int64_t>(), b = r[1].get<int64_t>();
+            if (a > b) LTM_THROW(o.where(f.key), ": range has lo > hi: [", a, ", ", b, "]");
+            if (!f.limits.contains(a) || !f.limits.contains(b))
+                LTM_THROW(o.where(f.key), ": range [", a, ", ", b, "] must lie in ", limits_text(f.limits));
+            v = {int(a), int(b)};
+        } else {
+            if constexpr (std::is_same_v<V, float>) v = o.get_float(f.key, v);
+            else if constexpr (std::is_same_v<V, uint64_t>) {
+                const int x = o.get_int(f.key, 0);
+                if (x < 0) LTM_THROW(o.where(f.key), ": must be >= 0");
+                v = uint64_t(x);
+            } else v = o.get_int(f.key, v);
+            if (!f.limits.contains(v)) LTM_THROW(o.where(f.key), ": ", json_value(v), " is outside ", limits_text(f.limits));
+        }
+    }
     template <class V>
     static OrderedJson json_value(const V &v) {
         if constexpr (std::is_same_v<V, float>) return json_float(v);
