@@ -57,10 +57,13 @@ SurfaceSample make_sample(const Scene &scene, TriangleRef ref, Vec2f u) {
     return s;
 }
 
+// One stratified draw of n samples; round > 0 (more candidates for a filter) is an independent
+// draw with its own key.
 std::vector<SurfaceSample> draw(const Scene &scene, const AreaDistribution &dist, int64_t n,
-                                uint64_t seed, SampleStream stream) {
+                                uint64_t seed, SampleStream stream, uint64_t round = 0) {
     std::vector<SurfaceSample> out(static_cast<size_t>(n));
-    const uint64_t key = hash_keys({seed, uint64_t(stream), uint64_t(n)});
+    const uint64_t key = round == 0 ? hash_keys({seed, uint64_t(stream), uint64_t(n)})
+                                    : hash_keys({seed, uint64_t(stream), uint64_t(n), 0x726f756e64ull, round});
     Pcg32 shift_rng(key);
     const Vec2f shift{shift_rng.next_float(), shift_rng.next_float()};
     parallel_for(0, n, 4096, [&](int64_t i0, int64_t i1) {
@@ -86,11 +89,27 @@ std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, 
         return draw(scene, dist, n_points, seed, stream);
     }
 
-    // Rejection: draw a stratified candidate set large enough that >= n_points survive, then
-    // keep a seeded uniform subset of the survivors (in candidate order, so strata stay spread).
-    int64_t n_candidates = n_points;
-    for (int attempt = 0; attempt < 8; ++attempt) {
-        std::vector<SurfaceSample> cand = draw(scene, dist, n_candidates, seed, stream);
+    // Rejection in rounds: round r is a stratified draw of n_points candidates with its own key,
+    // so no candidate depends on how many rounds are needed. Every survivor of the earlier rounds
+    // is kept; the last round contributes a seeded uniform subset of its survivors (in candidate
+    // order, so strata stay spread). The result is area-uniform over the surfaces that pass (the
+    // selection never looks at positions), and a borderline candidate that flips — the same scene
+    // in another unit, through float rounding in the filter — changes one point of the set, not
+    // all of it (a candidate count that depended on the pass fraction did: seed 900103 at ×0.1
+    // came out a wholly different point set, 10 % off in the unit check).
+    std::vector<SurfaceSample> out;
+    out.reserve(size_t(n_points));
+    int64_t candidates = 0, passed = 0;
+    for (uint64_t round = 0;; ++round) {
+        if (round > 0) {
+            if (passed == 0 && round >= 2)
+                LTM_THROW("sample_surface(): every candidate point was rejected (all surfaces enclosed?)");
+            const double frac = std::max(double(passed) / double(candidates), 1e-9);
+            if (double(n_points) / frac > double(k_max_sample_count))
+                LTM_THROW("sample_surface(): only ", 100 * frac, "% of the surface passes the filter; ", n_points,
+                          " points would need more than ", k_max_sample_count, " candidates");
+        }
+        std::vector<SurfaceSample> cand = draw(scene, dist, n_points, seed, stream, round);
         std::vector<uint8_t> keep(cand.size());
         parallel_for(0, int64_t(cand.size()), 1024, [&](int64_t i0, int64_t i1) {
             for (int64_t i = i0; i < i1; ++i) keep[size_t(i)] = !filter(cand[size_t(i)]);
@@ -98,33 +117,26 @@ std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, 
         std::vector<int64_t> kept;
         for (size_t i = 0; i < cand.size(); ++i)
             if (keep[i]) kept.push_back(int64_t(i));
-        if (int64_t(kept.size()) >= n_points) {
-            if (stats) *stats = {int64_t(cand.size()), int64_t(kept.size())};
-            const uint64_t key = hash_keys({seed, uint64_t(stream), 0x5e1ec7ull});
+        candidates += int64_t(cand.size());
+        passed += int64_t(kept.size());
+        const size_t need = size_t(n_points) - out.size();
+        if (kept.size() > need) {   // the last round: a seeded uniform subset of its survivors
+            const uint64_t key = hash_keys({seed, uint64_t(stream), 0x5e1ec7ull, round});
             std::vector<std::pair<uint64_t, int64_t>> prio;
+            prio.reserve(kept.size());
             for (int64_t i : kept) prio.push_back({hash_keys({key, uint64_t(i)}), i});
-            std::nth_element(prio.begin(), prio.begin() + n_points, prio.end());
-            prio.resize(size_t(n_points));
-            std::sort(prio.begin(), prio.end(), [](auto &a, auto &b) { return a.second < b.second; });
-            std::vector<SurfaceSample> out;
-            out.reserve(size_t(n_points));
-            for (const auto &pr : prio) out.push_back(cand[size_t(pr.second)]);
+            std::nth_element(prio.begin(), prio.begin() + ptrdiff_t(need), prio.end());
+            prio.resize(need);
+            kept.clear();
+            for (const auto &pr : prio) kept.push_back(pr.second);
+            std::sort(kept.begin(), kept.end());
+        }
+        for (int64_t i : kept) out.push_back(cand[size_t(i)]);
+        if (out.size() == size_t(n_points)) {
+            if (stats) *stats = {candidates, passed};
             return out;
         }
-        if (kept.empty() && attempt > 0)
-            LTM_THROW("sample_surface(): every candidate point was rejected (all surfaces enclosed?)");
-        const double frac = std::max(double(kept.size()) / double(cand.size()), 0.01);
-        // Rounded up to a multiple of n_points/64: the candidate count (and with it every candidate,
-        // sample i depends on n) must not move when one borderline point flips between two runs,
-        // e.g. the same scene in another unit (float rounding) — else the whole point set changes.
-        const int64_t step = std::max<int64_t>(64, n_points / 64);
-        const int64_t next = (int64_t(double(n_points) / frac * 1.1) / step + 1) * step;
-        if (next > k_max_sample_count)
-            LTM_THROW("sample_surface(): only ", 100 * frac, "% of the surface passes the filter; ",
-                      n_points, " points would need more than ", k_max_sample_count, " candidates");
-        n_candidates = std::max(next, n_candidates + 64);
     }
-    LTM_THROW("sample_surface(): could not draw ", n_points, " points that pass the filter");
 }
 
 PointSet to_scene_points(const std::vector<SurfaceSample> &samples) {

@@ -46,34 +46,51 @@ TEST(Enclosure, ExcludedSamplesAvoidBlockFootprints) {
 // points (scaled) and the same S — a borderline point that flips with float rounding must not
 // change the candidate count and with it the whole point set.
 TEST(ScenePoints, FilteredEmissionScaleAndUnitOfLength) {
-    GeneratedScene g = generate_indoor(GenConfig{}, 900100);
-    const EmbreeAccel accel(g.scene);
-    const ScenePoints a = sample_scene_points(accel, 8192, 7, true);
-    ASSERT_EQ(a.points.size(), 8192u);
-    const ScenePoints all = sample_scene_points(accel, 8192, 7, false);
-    EXPECT_GT(a.emission_scale.x, all.emission_scale.x);   // same flux, less area
-    EXPECT_NEAR(all.emission_scale.x, scene_emission_scale(g.scene).x, 1e-6f * all.emission_scale.x);
-
-    Scene small = g.scene;
-    scale_lengths(small, 0.1f);
-    const EmbreeAccel accel_small(small);
-    const ScenePoints b = sample_scene_points(accel_small, 8192, 7, true);
-    // A handful of candidates at grazing contacts still flip with float rounding (~0.1 % here).
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.emission_scale[c], a.emission_scale[c], 5e-3f * a.emission_scale[c]) << c;
-    // Compared as sets (a flipped candidate shifts the order of the rest): sorted by x, then a
-    // match within 1e-4 (house ~1 unit wide after scaling).
-    std::vector<Vec3f> pa;
-    for (size_t i = 0; i < a.points.size(); ++i) pa.push_back(a.points.vec3(i, 0) * 0.1f);
-    std::sort(pa.begin(), pa.end(), [](Vec3f u, Vec3f v) { return u.x < v.x; });
-    int same = 0;
-    for (size_t i = 0; i < b.points.size(); ++i) {
-        const Vec3f q = b.points.vec3(i, 0);
-        auto it = std::lower_bound(pa.begin(), pa.end(), q.x - 1e-4f, [](Vec3f u, float x) { return u.x < x; });
-        for (; it != pa.end() && it->x <= q.x + 1e-4f; ++it)
-            if (length(*it - q) < 1e-4f) {
-                ++same;
-                break;
-            }
+    // While the rejection's candidate count followed the pass fraction, house 900103 came out a
+    // wholly different point set with sampling seeds 0, 6, 8 at ×0.1 and 5 at ×10 (4 of 36 cases;
+    // its unit check was 10 % off); now every one of those 36 keeps >= 8159 of 8192 points.
+    struct Case {
+        int house;
+        float f;
+        uint64_t sampling_seed;
+    };
+    for (const Case &k : {Case{900100, 0.1f, 7}, Case{900103, 0.1f, 0}, Case{900103, 0.1f, 6}, Case{900103, 10.f, 5}}) {
+        const int seed = k.house;
+        const float f = k.f;
+        SCOPED_TRACE("house " + std::to_string(seed) + " ×" + std::to_string(f) + " seed " + std::to_string(k.sampling_seed));
+        GeneratedScene g = generate_indoor(GenConfig{}, uint64_t(seed));
+        const EmbreeAccel accel(g.scene);
+        const ScenePoints a = sample_scene_points(accel, 8192, k.sampling_seed, true);
+        ASSERT_EQ(a.points.size(), 8192u);
+        if (seed == 900100) {
+            const ScenePoints all = sample_scene_points(accel, 8192, k.sampling_seed, false);
+            EXPECT_GT(a.emission_scale.x, all.emission_scale.x);   // same flux, less area
+            EXPECT_NEAR(all.emission_scale.x, scene_emission_scale(g.scene).x, 1e-6f * all.emission_scale.x);
+        }
+        Scene scaled = g.scene;
+        scale_lengths(scaled, f);
+        const EmbreeAccel accel_scaled(scaled);
+        const ScenePoints b = sample_scene_points(accel_scaled, 8192, k.sampling_seed, true);
+        // A handful of candidates at grazing contacts still flip with float rounding (~0.1 %).
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.emission_scale[c], a.emission_scale[c], 5e-3f * a.emission_scale[c]) << c;
+        // Compared as sets, sorted by x, then a match within 1e-5 of the house's size.
+        const float tol = 1e-5f * f * length(g.scene.bounds().extent());
+        std::vector<Vec3f> pa;
+        for (size_t i = 0; i < a.points.size(); ++i) pa.push_back(a.points.vec3(i, 0) * f);
+        std::sort(pa.begin(), pa.end(), [](Vec3f u, Vec3f v) { return u.x < v.x; });
+        int same = 0, same_emitting = 0, emitting = 0;
+        for (size_t i = 0; i < b.points.size(); ++i) {
+            const Vec3f q = b.points.vec3(i, 0);
+            const bool emits = max_component(b.points.vec3(i, 9)) > 0.f;
+            emitting += emits;
+            auto it = std::lower_bound(pa.begin(), pa.end(), q.x - tol, [](Vec3f u, float x) { return u.x < x; });
+            for (; it != pa.end() && it->x <= q.x + tol; ++it)
+                if (length(*it - q) < tol) {
+                    ++same, same_emitting += emits;
+                    break;
+                }
+        }
+        EXPECT_GE(same, int(0.99 * 8192)) << "points of the scaled scene are not the scaled points";
+        EXPECT_GE(same_emitting, emitting - 1) << "an emitter's points moved";
     }
-    EXPECT_GE(same, int(0.99 * 8192)) << "points of the scaled scene are not the scaled points";
 }

@@ -26,10 +26,10 @@ inline constexpr int64_t k_max_sample_count = 50'000'000;
 /// Returns true for samples to drop (e.g. enclosed surfaces, see render/enclosure.h).
 using SampleFilter = std::function<bool(const SurfaceSample &)>;
 
-/// What a filtered draw saw: the filter's pass fraction over the final stratified candidate set
-/// estimates the share of the surface area that passes (the area the scene points represent).
+/// What a filtered draw saw: the filter's pass fraction over every candidate drawn estimates the
+/// share of the surface area that passes (the area the scene points represent).
 struct SampleStats {
-    int64_t candidates = 0;   ///< candidates drawn in the final round
+    int64_t candidates = 0;   ///< candidates drawn (all rounds)
     int64_t passed = 0;       ///< of those, kept by the filter (== candidates without a filter)
     double pass_fraction() const { return candidates > 0 ? double(passed) / double(candidates) : 0.0; }
 };
@@ -38,8 +38,10 @@ struct SampleStats {
 /// dimension ((i + ξ_i)/n through the area CDF), the in-triangle position follows Roberts' R2
 /// sequence with a seeded shift, so every triangle's samples are well spread. Sample i is a pure
 /// function of (seed, stream, n_points, i): identical at any thread count.
-/// With a filter, rejected samples are replaced by drawing more candidates; the kept ones are a
-/// seeded uniform subset, still area-weighted over the surfaces that pass the filter.
+/// With a filter, candidates come in rounds of n_points independent stratified draws until enough
+/// pass: all survivors of the earlier rounds and a seeded uniform subset of the last round's, still
+/// area-weighted over the surfaces that pass the filter. One candidate whose verdict flips changes
+/// at most one output point (tested): the same scene in another unit samples the same points.
 std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, uint64_t seed,
                                           SampleStream stream, const SampleFilter &filter = {},
                                           SampleStats *stats = nullptr);
