@@ -11,7 +11,8 @@
 // holes in a wall. The grid is centred on the points' bounding box, so it maps to itself under
 // the 8 horizontal symmetries of training, translation and a unit change by a power of two.
 //
-// Nodes are grouped into C clusters (FPS centres). Each node, and each receiver of the gather,
+// Nodes are grouped into about C clusters (centres from a coarse grid, see cluster_visibility()).
+// Each node, and each receiver of the gather,
 // joins the nearest centre that faces its way (so the two faces of a wall fall into different
 // clusters) and that it sees (so a cluster does not straddle a wall between two floors). Two
 // clusters see each other when the segment between their centres is not blocked. Both tests lift
@@ -43,6 +44,7 @@ public:
     /// Is the segment from a (surface normal na) to b (normal nb) blocked? Samples every h/2.
     bool blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const;
     float voxel() const { return m_h; }
+    Vec3f center() const { return m_center; }   ///< the grid's centre: the points' bounding-box centre
     int64_t n_solid() const;
 
 private:
@@ -61,7 +63,7 @@ struct VisibilityOptions {
     /// the model's ℓ (mean FPS-group distance) moves with FPS near-ties, and a grid tied to it
     /// flipped voxels under a ×10 unit change (physics check: 12 % max).
     float voxel_spacings = 0.f;
-    int clusters = 1024;     ///< C: visibility is decided between cluster centres (C² / 2 segments)
+    int clusters = 1024;     ///< C: about this many cluster centres; visibility between them (C² / 2 segments)
 };
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th
@@ -85,7 +87,14 @@ struct ClusterVisibility {
 };
 
 /// Clusters the m nodes and tests visibility between every pair of cluster centres against
-/// `occupancy` (of all scene points). O(m·C + C²·L/h). Deterministic at any thread count.
+/// `occupancy` (of all scene points). Centres: the nodes are grouped by a cube grid of edge
+/// g = h·√(2·n_solid/C) centred on the occupancy's centre and by the axis their normal faces most
+/// (±x, ±y, ±z); each group's centre is its node nearest to the group's mean (ties: the smaller
+/// position), groups in key order — about C of them on generated houses. Unlike farthest point
+/// sampling (greedy: one node more or less changes every later centre), one node added or removed
+/// changes at most its own group's centre, so the occlusion does not jump when a rescaled scene
+/// samples a borderline point differently; the grid maps to itself under the training symmetries
+/// and a unit change by a power of two. O(m log m + m·C + C²·L/h). Deterministic at any thread count.
 /// Throws ltm::Error on mismatched sizes or bad options.
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &node_position, const std::vector<Vec3f> &node_normal,
                                      VoxelOccupancy occupancy, int clusters);
