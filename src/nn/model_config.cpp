@@ -48,12 +48,29 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
     return f;
 }
 
+const ConfigFields<ModelConfig> &ModelConfig::fields() {
+    using C = ModelConfig;
+    static const ConfigFields<C> f = ConfigFields<C>()
+                                         .field("name", &C::name, "preset name (informational)")
+                                         .field("scene_points", &C::scene_points, "M scene points the model is trained with (must match the dataset)", at_least(16));
+    return f;
+}
+
+std::string ModelConfig::markdown_tables() {
+    return fields().markdown_table() + "\n" + EmbeddingConfig::fields().markdown_table("embedding.") + "\n" +
+           PTv3Config::fields().markdown_table("encoder.") + "\n" + DecoderConfig::fields().markdown_table("decoder.") + "\n" +
+           PhysicsConfig::fields().markdown_table("physics.");
+}
+
 ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
-    JsonObject o(j, where);
-    ModelConfig c;
-    c.name = o.get_string("name", c.name);
-    c.scene_points = o.get_int("scene_points", c.scene_points);
-    if (c.scene_points < 16) LTM_THROW(o.where("scene_points"), ": must be >= 16");
+    ModelConfig c = fields().read(j, where, ModelConfig{}, [](JsonObject &o, ModelConfig &m) { read_sections(o, m); });
+    if (c.n_anchors() < c.decoder.n_neighbors)
+        LTM_THROW(where, ": ", c.n_anchors(), " anchors are fewer than decoder.n_neighbors = ", c.decoder.n_neighbors);
+    if (c.embedding.k > c.scene_points) LTM_THROW(where, ": embedding.k exceeds scene_points");
+    return c;
+}
+
+void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
     if (o.has("embedding")) c.embedding = EmbeddingConfig::fields().read(o.require("embedding"), o.where("embedding"));
     if (o.has("decoder"))
         c.decoder = DecoderConfig::fields().read(o.require("decoder"), o.where("decoder"), DecoderConfig{}, [](JsonObject &d, DecoderConfig &dc) {
@@ -77,19 +94,12 @@ ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
             if (p.prior_bounces > 0 && !p.emission_scale)
                 LTM_THROW(ph.where("prior_bounces"), ": the power-balance prior needs emission_scale");
         });
-    o.finish();
-    if (c.n_anchors() < c.decoder.n_neighbors)
-        LTM_THROW(where, ": ", c.n_anchors(), " anchors are fewer than decoder.n_neighbors = ", c.decoder.n_neighbors);
-    if (c.embedding.k > c.scene_points) LTM_THROW(where, ": embedding.k exceeds scene_points");
-    return c;
 }
 
 ModelConfig ModelConfig::from_file(const std::string &path) { return from_json(parse_json_file(path), path); }
 
 OrderedJson ModelConfig::to_json() const {
-    OrderedJson j;
-    j["name"] = name;
-    j["scene_points"] = scene_points;
+    OrderedJson j = fields().write(*this);
     j["embedding"] = EmbeddingConfig::fields().write(embedding);
     OrderedJson enc = encoder.to_json();
     enc.erase("in_channels");   // derived from embedding.dim

@@ -1,4 +1,4 @@
-// ptv3.cpp: PTv3Config (strict JSON), per-scene voxelisation, and the PTv3 U-Net forward:
+// ptv3.cpp: per-scene voxelisation and the PTv3 U-Net forward (the config: nn/ptv3_config.h):
 // stem -> encoder stages (pooling + blocks) -> decoder stages (unpooling + blocks) -> points.
 #include "ltm/nn/ptv3.h"
 
@@ -33,110 +33,6 @@ int64_t sum(const std::vector<int64_t> &v) {
 
 }  // namespace
 
-// ---------------------------------------------------------------------------------------------
-// Config
-
-PTv3Config PTv3Config::from_json(const Json &j, const std::string &where) {
-    PTv3Config c;
-    JsonObject o(j, where);
-    c.in_channels = o.get_int("in_channels", c.in_channels);
-    c.grid_size = o.get_float("grid_size", c.grid_size);
-    auto ints = [&](const char *key, std::vector<int64_t> &v) {
-        if (o.has(key)) v = o.require_int_array(key);
-    };
-    ints("enc_depths", c.enc_depths);
-    ints("enc_channels", c.enc_channels);
-    ints("enc_heads", c.enc_heads);
-    ints("enc_patch_size", c.enc_patch_size);
-    ints("dec_depths", c.dec_depths);
-    ints("dec_channels", c.dec_channels);
-    ints("dec_heads", c.dec_heads);
-    ints("dec_patch_size", c.dec_patch_size);
-    if (o.has("orders")) {
-        const Json &v = o.require("orders");
-        if (!v.is_array()) LTM_THROW(o.where("orders"), ": expected an array of order names");
-        c.orders.clear();
-        for (size_t i = 0; i < v.size(); ++i) {
-            if (!v[i].is_string())
-                LTM_THROW(o.where("orders"), "/", i, ": expected a string (z, z-trans, hilbert, ",
-                          "hilbert-trans)");
-            c.orders.push_back(v[i].get<std::string>());
-        }
-    }
-    c.shuffle_orders = o.get_bool("shuffle_orders", c.shuffle_orders);
-    c.mlp_ratio = o.get_int("mlp_ratio", c.mlp_ratio);
-    c.attention = o.get_string("attention", c.attention);
-    c.drop_path = o.get_float("drop_path", c.drop_path);
-    c.enable_cpe = o.get_bool("enable_cpe", c.enable_cpe);
-    o.finish();
-    c.validate(where);
-    return c;
-}
-
-OrderedJson PTv3Config::to_json() const {
-    OrderedJson j;
-    j["in_channels"] = in_channels;
-    j["grid_size"] = json_float(grid_size);
-    j["enc_depths"] = enc_depths;
-    j["enc_channels"] = enc_channels;
-    j["enc_heads"] = enc_heads;
-    j["enc_patch_size"] = enc_patch_size;
-    j["dec_depths"] = dec_depths;
-    j["dec_channels"] = dec_channels;
-    j["dec_heads"] = dec_heads;
-    j["dec_patch_size"] = dec_patch_size;
-    j["orders"] = orders;
-    j["shuffle_orders"] = shuffle_orders;
-    j["mlp_ratio"] = mlp_ratio;
-    j["attention"] = attention;
-    j["drop_path"] = json_float(drop_path);
-    j["enable_cpe"] = enable_cpe;
-    return j;
-}
-
-void PTv3Config::validate(const std::string &where) const {
-    if (in_channels <= 0) LTM_THROW(where, ": in_channels must be > 0, got ", in_channels);
-    if (!(grid_size > 0.f) || !std::isfinite(grid_size))
-        LTM_THROW(where, ": grid_size must be a finite length > 0 (metres), got ", grid_size);
-    const size_t S = enc_depths.size();
-    if (S == 0) LTM_THROW(where, ": enc_depths must list at least one stage");
-    auto check_list = [&](const char *name, const std::vector<int64_t> &v, size_t n) {
-        if (v.size() != n)
-            LTM_THROW(where, ": ", name, " must have ", n, " entries (", S,
-                      " encoder stages), got ", v.size());
-        for (auto x : v)
-            if (x <= 0) LTM_THROW(where, ": ", name, " entries must be > 0, got ", x);
-    };
-    check_list("enc_channels", enc_channels, S);
-    check_list("enc_heads", enc_heads, S);
-    check_list("enc_patch_size", enc_patch_size, S);
-    check_list("enc_depths", enc_depths, S);
-    check_list("dec_depths", dec_depths, S - 1);
-    check_list("dec_channels", dec_channels, S - 1);
-    check_list("dec_heads", dec_heads, S - 1);
-    check_list("dec_patch_size", dec_patch_size, S - 1);
-    for (size_t s = 0; s < S; ++s)
-        if (enc_channels[s] % enc_heads[s] != 0)
-            LTM_THROW(where, ": enc_channels[", s, "] = ", enc_channels[s],
-                      " is not a multiple of enc_heads[", s, "] = ", enc_heads[s]);
-    for (size_t s = 0; s + 1 < S; ++s)
-        if (dec_channels[s] % dec_heads[s] != 0)
-            LTM_THROW(where, ": dec_channels[", s, "] = ", dec_channels[s],
-                      " is not a multiple of dec_heads[", s, "] = ", dec_heads[s]);
-    if (orders.empty()) LTM_THROW(where, ": orders must not be empty");
-    for (const auto &name : orders) {
-        try {
-            parse_serialization_order(name);
-        } catch (const Error &e) {
-            LTM_THROW(where, ": orders: ", e.what());
-        }
-    }
-    if (mlp_ratio <= 0) LTM_THROW(where, ": mlp_ratio must be > 0, got ", mlp_ratio);
-    if (attention != "patch" && attention != "vanilla")
-        LTM_THROW(where, ": attention must be \"patch\" or \"vanilla\", got \"", attention, "\"");
-    if (!(drop_path >= 0.f && drop_path < 1.f))
-        LTM_THROW(where, ": drop_path must be in [0, 1), got ", drop_path);
-}
 
 // ---------------------------------------------------------------------------------------------
 // Voxelisation

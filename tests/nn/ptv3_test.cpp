@@ -10,7 +10,9 @@
 #include <tuple>
 
 #include "ltm/core/error.h"
+#include "ltm/core/file_util.h"
 #include "ltm/core/json_util.h"
+#include "ltm/nn/model_config.h"
 #include "ltm/nn/ptv3.h"
 #include "test_util.h"
 
@@ -75,6 +77,36 @@ TEST(PTv3Config, RejectsUnknownKeysAndInconsistentValues) {
     EXPECT_THROW(parse(R"({"attention": "linear"})"), Error);
     EXPECT_THROW(parse(R"({"drop_path": 1.5})"), Error);
     EXPECT_NO_THROW(parse(R"({"attention": "vanilla", "orders": ["z", "hilbert"]})"));
+    // The errors name the key (and the entry of a list).
+    try {
+        parse(R"({"enc_patch_size": [64, 0, 64, 64]})");
+        ADD_FAILURE() << "no error";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("/enc_patch_size/1"), std::string::npos) << e.what();
+    }
+    // A config built in code is checked by the same descriptions.
+    PTv3Config c;
+    c.drop_path = 1.5f;
+    EXPECT_THROW(c.validate("code"), Error);
+    c.drop_path = 0.f, c.orders = {"z", "peano"};
+    EXPECT_THROW(c.validate("code"), Error);
+}
+
+// The config's allowed orders are exactly the names the serializer parses.
+TEST(PTv3Config, OrderChoicesAreTheSerializationOrders) {
+    for (const auto &f : PTv3Config::fields().fields())
+        if (f.key == "orders") {
+            EXPECT_EQ(f.choices.size(), 4u);
+            for (const std::string &name : f.choices) EXPECT_NO_THROW(parse_serialization_order(name)) << name;
+        }
+    EXPECT_THROW(parse_serialization_order("peano"), Error);
+}
+
+// docs/config.md's model tables are the descriptions' output (the top level and every section).
+TEST(ModelConfig, DocsTablesAreTheDescriptions) {
+    const std::string docs = read_file(test::source_path("docs/config.md"));
+    const std::string tables = ModelConfig::markdown_tables();
+    EXPECT_NE(docs.find(tables), std::string::npos) << "docs/config.md lacks these tables:\n" << tables;
 }
 
 // Parents = unique(grid >> 1); pooled feature = GELU(LN(max over children of Linear(x))).

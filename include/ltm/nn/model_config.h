@@ -2,11 +2,12 @@
 // configs/model/{tiny,cpu,paper}.json and the two ablations are instances of this struct.
 #pragma once
 
+#include <algorithm>
 #include <string>
 
 #include "ltm/core/config_fields.h"
 #include "ltm/core/json_util.h"
-#include "ltm/nn/ptv3.h"
+#include "ltm/nn/ptv3_config.h"
 
 namespace ltm {
 
@@ -88,11 +89,19 @@ struct ModelConfig {
     DecoderConfig decoder;
     PhysicsConfig physics;          ///< absent from a JSON config: PhysicsConfig::legacy() (v0.3)
 
+    /// The top-level keys (name, scene_points); the sections have their own fields().
+    static const ConfigFields<ModelConfig> &fields();
     /// Strict: unknown keys and invalid values throw "where: /pointer: problem".
     static ModelConfig from_json(const Json &j, const std::string &where);
+    /// docs/config.md's model tables: the top level and each section, from the descriptions.
+    static std::string markdown_tables();
     static ModelConfig from_file(const std::string &path);
     OrderedJson to_json() const;
     int n_anchors() const { return std::max(1, int(float(scene_points) * embedding.sample_ratio)); }
+
+private:
+    /// The nested sections and their cross-field checks (read()'s rest hook).
+    static void read_sections(JsonObject &o, ModelConfig &c);
 };
 
 }  // namespace ltm
