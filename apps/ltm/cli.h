@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,18 @@ struct Command {
     std::function<void(CLI::App &sub, CommonOptions &common)> setup;
     std::function<void(const CommonOptions &common)> run;
 };
+
+/// A command whose options are parsed into a fresh Args: `setup` declares them on `sub` (binding
+/// to fields of `a`), `run` executes with them after parsing. One Args per Command, shared by the
+/// two closures, so commands() hands out independent state each call.
+template <class Args>
+Command make_command(std::string name, std::string help, std::function<void(CLI::App &, Args &, CommonOptions &)> setup,
+                     std::function<void(Args &, const CommonOptions &)> run) {
+    auto a = std::make_shared<Args>();
+    return {std::move(name), std::move(help),
+            [a, setup = std::move(setup)](CLI::App &sub, CommonOptions &common) { setup(sub, *a, common); },
+            [a, run = std::move(run)](const CommonOptions &common) { run(*a, common); }};
+}
 
 /// The command table (one file per command: cmd_<name>.cpp), with fresh argument state.
 std::vector<Command> commands();

@@ -22,36 +22,33 @@ struct ConvertArgs {
 }  // namespace
 
 Command make_convert_command() {
-    auto a = std::make_shared<ConvertArgs>();
-    Command c;
-    c.name = "convert";
-    c.help = "Convert a scene (pbrt-v4, glTF 2.0, OBJ, JSON, builtin) to ltm scene JSON";
-    c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
-        sub.add_option("-o,--output", a->output, "Output scene JSON")->required();
-    };
-    c.run = [a](const CommonOptions &) {
-        if (file_extension(a->output) != "json") LTM_THROW(a->output, ": output must be a .json file");
-        Scene scene = load_scene(a->scene);
-        // Images that exist only in memory (embedded in a .glb or a data URI) are written as PNG
-        // beside the output, so the JSON can reference them.
-        int written = 0;
-        for (Material &m : scene.materials)
-            for (Texture *t : {&m.albedo, &m.emission})
-                if (t->kind == TextureKind::image && t->image && !std::filesystem::is_regular_file(t->image_path)) {
-                    const std::string png = detail::concat(a->output.substr(0, a->output.size() - 5), "_", m.name,
-                                                           t == &m.albedo ? "_albedo" : "_emission", ".png");
-                    write_png(png, *t->image);
-                    t->image_path = png;
-                    ++written;
-                }
-        save_scene_json(scene, a->output);
-        if (written) log_info("wrote ", written, " embedded image(s) as PNG beside ", a->output);
-        const Vec3f e = scene.bounds().extent();
-        log_info(a->scene, " -> ", a->output, ": ", scene.meshes.size(), " meshes, ", scene.n_triangles(), " triangles, ",
-                 scene.materials.size(), " materials, ", scene.cameras.size(), " cameras, extent ", e.x, " x ", e.y, " x ", e.z);
-    };
-    return c;
+    return make_command<ConvertArgs>(
+        "convert", "Convert a scene (pbrt-v4, glTF 2.0, OBJ, JSON, builtin) to ltm scene JSON",
+        [](CLI::App &sub, ConvertArgs &a, CommonOptions &) {
+            sub.add_option("scene", a.scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
+            sub.add_option("-o,--output", a.output, "Output scene JSON")->required();
+        },
+        [](ConvertArgs &a, const CommonOptions &) {
+            if (file_extension(a.output) != "json") LTM_THROW(a.output, ": output must be a .json file");
+            Scene scene = load_scene(a.scene);
+            // Images that exist only in memory (embedded in a .glb or a data URI) are written as PNG
+            // beside the output, so the JSON can reference them.
+            int written = 0;
+            for (Material &m : scene.materials)
+                for (Texture *t : {&m.albedo, &m.emission})
+                    if (t->kind == TextureKind::image && t->image && !std::filesystem::is_regular_file(t->image_path)) {
+                        const std::string png = detail::concat(a.output.substr(0, a.output.size() - 5), "_", m.name,
+                                                               t == &m.albedo ? "_albedo" : "_emission", ".png");
+                        write_png(png, *t->image);
+                        t->image_path = png;
+                        ++written;
+                    }
+            save_scene_json(scene, a.output);
+            if (written) log_info("wrote ", written, " embedded image(s) as PNG beside ", a.output);
+            const Vec3f e = scene.bounds().extent();
+            log_info(a.scene, " -> ", a.output, ": ", scene.meshes.size(), " meshes, ", scene.n_triangles(), " triangles, ",
+                     scene.materials.size(), " materials, ", scene.cameras.size(), " cameras, extent ", e.x, " x ", e.y, " x ", e.z);
+        });
 }
 
 }  // namespace ltm::cli

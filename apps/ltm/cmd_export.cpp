@@ -22,36 +22,33 @@ bool ends_with(const std::string &s, const std::string &suffix) {
 }  // namespace
 
 Command make_export_command() {
-    auto a = std::make_shared<ExportArgs>();
-    Command c;
-    c.name = "export";
-    c.help = "Export a checkpoint's (or convert a weights file's) weights to safetensors, config in the metadata";
-    c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("input", a->input, "Checkpoint (.ltmckpt) or weights (.safetensors)")->required();
-        sub.add_option("-o,--output", a->output, "Weights file (.safetensors)")->required();
-        sub.add_flag("--half", a->half, "Store F16 (half the size; inference converts back to F32)");
-        sub.add_option("--note", a->note, "Free text stored in the metadata ('note'), e.g. provenance");
-    };
-    c.run = [a](const CommonOptions &) {
-        std::map<std::string, std::string> meta;
-        LtmModel model{nullptr};
-        if (ends_with(a->input, ".safetensors")) {
-            model = load_weights(a->input, &meta);
-            for (const char *k : {"format", "format_version", "arch_version", "config"}) meta.erase(k);
-        } else {
-            const TrainState st = read_checkpoint_state(a->input);
-            const ModelConfig mc = ModelConfig::from_json(parse_json(st.model_config, a->input), a->input);
-            model = LtmModel(mc);
-            torch::optim::AdamW opt(model->parameters());
-            load_checkpoint(a->input, model, opt);
-            meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
-        }
-        if (!a->note.empty()) meta["note"] = a->note;
-        save_weights(a->output, model, meta, a->half);
-        log_info("exported ", model->n_parameters(), " parameters", meta.count("step") ? " (step " + meta["step"] + ")" : "",
-                 a->half ? " as F16" : "", " -> ", a->output);
-    };
-    return c;
+    return make_command<ExportArgs>(
+        "export", "Export a checkpoint's (or convert a weights file's) weights to safetensors, config in the metadata",
+        [](CLI::App &sub, ExportArgs &a, CommonOptions &) {
+            sub.add_option("input", a.input, "Checkpoint (.ltmckpt) or weights (.safetensors)")->required();
+            sub.add_option("-o,--output", a.output, "Weights file (.safetensors)")->required();
+            sub.add_flag("--half", a.half, "Store F16 (half the size; inference converts back to F32)");
+            sub.add_option("--note", a.note, "Free text stored in the metadata ('note'), e.g. provenance");
+        },
+        [](ExportArgs &a, const CommonOptions &) {
+            std::map<std::string, std::string> meta;
+            LtmModel model{nullptr};
+            if (ends_with(a.input, ".safetensors")) {
+                model = load_weights(a.input, &meta);
+                for (const char *k : {"format", "format_version", "arch_version", "config"}) meta.erase(k);
+            } else {
+                const TrainState st = read_checkpoint_state(a.input);
+                const ModelConfig mc = ModelConfig::from_json(parse_json(st.model_config, a.input), a.input);
+                model = LtmModel(mc);
+                torch::optim::AdamW opt(model->parameters());
+                load_checkpoint(a.input, model, opt);
+                meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
+            }
+            if (!a.note.empty()) meta["note"] = a.note;
+            save_weights(a.output, model, meta, a.half);
+            log_info("exported ", model->n_parameters(), " parameters", meta.count("step") ? " (step " + meta["step"] + ")" : "",
+                     a.half ? " as F16" : "", " -> ", a.output);
+        });
 }
 
 }  // namespace ltm::cli

@@ -36,32 +36,29 @@ struct PreviewArgs {
 }  // namespace
 
 Command make_preview_command() {
-    auto a = std::make_shared<PreviewArgs>();
-    Command c;
-    c.name = "preview";
-    c.help = "Render a quick albedo/normal preview of a scene from its camera (PNG)";
-    c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
-        sub.add_option("-o,--output", a->output, "Output PNG")->required();
-        sub.add_option("--camera", a->camera, "Camera name (default: the scene's first, else automatic)");
-        sub.add_option("--mode", a->mode, "shaded | albedo | normal")->capture_default_str();
-        sub.add_option("--width", a->width, "Width in pixels (default: the camera's)")->check(CLI::Range(1, 16384));
-        sub.add_option("--height", a->height, "Height in pixels (default: the camera's)")->check(CLI::Range(1, 16384));
-    };
-    c.run = [a](const CommonOptions &) {
-        const PreviewMode mode = parse_preview_mode(a->mode);
-        ValidateOptions vopt;
-        vopt.require_emitter = false;   // looking at an unlit scene is allowed
-        const Scene scene = load_scene(a->scene, vopt);
-        const Camera cam = choose_camera(scene, a->camera, a->width, a->height, a->scene);
-        const EmbreeAccel accel(scene);
-        float hit_fraction = 0.f;
-        const Image img = render_preview(accel, cam, mode, &hit_fraction);
-        if (hit_fraction == 0.f) LTM_THROW(a->scene, ": camera '", cam.name, "' sees no geometry");
-        write_png(a->output, img);
-        log_info("preview ", cam.width, "x", cam.height, " (", a->mode, ") -> ", a->output);
-    };
-    return c;
+    return make_command<PreviewArgs>(
+        "preview", "Render a quick albedo/normal preview of a scene from its camera (PNG)",
+        [](CLI::App &sub, PreviewArgs &a, CommonOptions &) {
+            sub.add_option("scene", a.scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
+            sub.add_option("-o,--output", a.output, "Output PNG")->required();
+            sub.add_option("--camera", a.camera, "Camera name (default: the scene's first, else automatic)");
+            sub.add_option("--mode", a.mode, "shaded | albedo | normal")->capture_default_str();
+            sub.add_option("--width", a.width, "Width in pixels (default: the camera's)")->check(CLI::Range(1, 16384));
+            sub.add_option("--height", a.height, "Height in pixels (default: the camera's)")->check(CLI::Range(1, 16384));
+        },
+        [](PreviewArgs &a, const CommonOptions &) {
+            const PreviewMode mode = parse_preview_mode(a.mode);
+            ValidateOptions vopt;
+            vopt.require_emitter = false;   // looking at an unlit scene is allowed
+            const Scene scene = load_scene(a.scene, vopt);
+            const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);
+            const EmbreeAccel accel(scene);
+            float hit_fraction = 0.f;
+            const Image img = render_preview(accel, cam, mode, &hit_fraction);
+            if (hit_fraction == 0.f) LTM_THROW(a.scene, ": camera '", cam.name, "' sees no geometry");
+            write_png(a.output, img);
+            log_info("preview ", cam.width, "x", cam.height, " (", a.mode, ") -> ", a.output);
+        });
 }
 
 }  // namespace ltm::cli

@@ -28,71 +28,68 @@ std::string strip_image_extension(std::string p) {
 }  // namespace
 
 Command make_render_command() {
-    auto a = std::make_shared<RenderArgs>();
-    Command c;
-    c.name = "render";
-    c.help = "Render an image: path-traced reference or the neural model (EXR with AOVs + PNGs)";
-    c.setup = [a](CLI::App &sub, CommonOptions &) {
-        sub.add_option("scene", a->scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
-        sub.add_option("--method", a->method, "pathtrace | neural")->capture_default_str()->check(
-            CLI::IsMember({"pathtrace", "neural"}));
-        sub.add_option("--model", a->model, "Weights for --method neural (models/ltm-cpu.safetensors)");
-        sub.add_option("--spp", a->spp, "Samples per pixel (pathtrace)")->capture_default_str();
-        sub.add_option("--direct-spp", a->direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
-            ->capture_default_str();
-        sub.add_option("--direct-estimator", a->direct_estimator,
-                       "Direct light (neural): ratio = analytic unshadowed x sampled visibility, mis = the path tracer's; "
-                       "auto = ratio unless an emitter is textured")
-            ->capture_default_str()
-            ->check(CLI::IsMember({"auto", "ratio", "mis"}));
-        sub.add_option("--gi-stride", a->gi_stride,
-                       "Decode E+ on every N-th pixel in x and y and interpolate on matching surfaces (neural; 1: every pixel)")
-            ->capture_default_str()
-            ->check(CLI::Range(1, 16));
-        sub.add_option("--max-depth", a->max_depth, "Scattering events after the first hit (pathtrace)")->capture_default_str();
-        sub.add_option("--camera", a->camera, "Camera name (default: the scene's first, else automatic)");
-        sub.add_option("--width", a->width, "Width (default: the camera's)")->check(CLI::Range(1, 16384));
-        sub.add_option("--height", a->height, "Height (default: the camera's)")->check(CLI::Range(1, 16384));
-        sub.add_option("--exposure", a->exposure, "PNG exposure scale")->capture_default_str();
-        sub.add_option("-o,--output", a->output, "Output prefix: writes <prefix>.exr and <prefix>.png")->required();
-    };
-    c.run = [a](const CommonOptions &common) {
-        if (!(a->exposure > 0.f)) LTM_THROW("--exposure ", a->exposure, ": must be > 0");
-        const std::string prefix = strip_image_extension(a->output);
-        if (a->method == "neural") {
-#if LTM_WITH_TORCH
-            if (a->model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
-            if (a->direct_spp <= 0) LTM_THROW("--direct-spp ", a->direct_spp, ": must be > 0");
-            run_neural_render(
-                {a->scene, a->camera, a->model, prefix, a->width, a->height, a->direct_spp, a->exposure, true, a->gi_stride,
-                 a->direct_estimator},
-                common);
-            return;
-#else
-            LTM_THROW("--method neural: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
-#endif
-        }
-        if (!a->model.empty()) LTM_THROW("--model is only used with --method neural");
-        if (a->gi_stride != 1) LTM_THROW("--gi-stride is only used with --method neural");
-        if (a->direct_estimator != "auto") LTM_THROW("--direct-estimator is only used with --method neural");
-        if (a->spp <= 0) LTM_THROW("--spp ", a->spp, ": must be > 0");
-        if (a->max_depth < 1) LTM_THROW("--max-depth ", a->max_depth, ": must be >= 1");
-        const Scene scene = load_scene(a->scene);
-        const Camera cam = choose_camera(scene, a->camera, a->width, a->height, a->scene);
-        const EmbreeAccel accel(scene);
-        check_camera(accel, cam, a->scene);
-        PathTracerConfig cfg;
-        cfg.seed = common.seed;
-        cfg.max_depth = a->max_depth;
-        const PathTracer pt(accel, cfg);
-        const RenderedImage img = render_pathtraced(pt, cam, a->spp);
-        write_rendered_image(img, prefix, a->exposure);
-        write_png(prefix + ".irradiance.png", img.irradiance, tonemap_scale(img.irradiance));
-        log_info("rendered ", cam.width, "x", cam.height, " at ", a->spp, " spp in ", format_duration(img.seconds), " (",
-                 format_count(double(accel.rays_traced()) / img.seconds), " rays/s) -> ", prefix, ".exr, ", prefix,
-                 ".png, ", prefix, ".irradiance.png");
-    };
-    return c;
+    return make_command<RenderArgs>(
+        "render", "Render an image: path-traced reference or the neural model (EXR with AOVs + PNGs)",
+        [](CLI::App &sub, RenderArgs &a, CommonOptions &) {
+            sub.add_option("scene", a.scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
+            sub.add_option("--method", a.method, "pathtrace | neural")->capture_default_str()->check(
+                CLI::IsMember({"pathtrace", "neural"}));
+            sub.add_option("--model", a.model, "Weights for --method neural (models/ltm-cpu.safetensors)");
+            sub.add_option("--spp", a.spp, "Samples per pixel (pathtrace)")->capture_default_str();
+            sub.add_option("--direct-spp", a.direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
+                ->capture_default_str();
+            sub.add_option("--direct-estimator", a.direct_estimator,
+                           "Direct light (neural): ratio = analytic unshadowed x sampled visibility, mis = the path tracer's; "
+                           "auto = ratio unless an emitter is textured")
+                ->capture_default_str()
+                ->check(CLI::IsMember({"auto", "ratio", "mis"}));
+            sub.add_option("--gi-stride", a.gi_stride,
+                           "Decode E+ on every N-th pixel in x and y and interpolate on matching surfaces (neural; 1: every pixel)")
+                ->capture_default_str()
+                ->check(CLI::Range(1, 16));
+            sub.add_option("--max-depth", a.max_depth, "Scattering events after the first hit (pathtrace)")->capture_default_str();
+            sub.add_option("--camera", a.camera, "Camera name (default: the scene's first, else automatic)");
+            sub.add_option("--width", a.width, "Width (default: the camera's)")->check(CLI::Range(1, 16384));
+            sub.add_option("--height", a.height, "Height (default: the camera's)")->check(CLI::Range(1, 16384));
+            sub.add_option("--exposure", a.exposure, "PNG exposure scale")->capture_default_str();
+            sub.add_option("-o,--output", a.output, "Output prefix: writes <prefix>.exr and <prefix>.png")->required();
+        },
+        [](RenderArgs &a, const CommonOptions &common) {
+            if (!(a.exposure > 0.f)) LTM_THROW("--exposure ", a.exposure, ": must be > 0");
+            const std::string prefix = strip_image_extension(a.output);
+            if (a.method == "neural") {
+    #if LTM_WITH_TORCH
+                if (a.model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
+                if (a.direct_spp <= 0) LTM_THROW("--direct-spp ", a.direct_spp, ": must be > 0");
+                run_neural_render(
+                    {a.scene, a.camera, a.model, prefix, a.width, a.height, a.direct_spp, a.exposure, true, a.gi_stride,
+                     a.direct_estimator},
+                    common);
+                return;
+    #else
+                LTM_THROW("--method neural: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
+    #endif
+            }
+            if (!a.model.empty()) LTM_THROW("--model is only used with --method neural");
+            if (a.gi_stride != 1) LTM_THROW("--gi-stride is only used with --method neural");
+            if (a.direct_estimator != "auto") LTM_THROW("--direct-estimator is only used with --method neural");
+            if (a.spp <= 0) LTM_THROW("--spp ", a.spp, ": must be > 0");
+            if (a.max_depth < 1) LTM_THROW("--max-depth ", a.max_depth, ": must be >= 1");
+            const Scene scene = load_scene(a.scene);
+            const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);
+            const EmbreeAccel accel(scene);
+            check_camera(accel, cam, a.scene);
+            PathTracerConfig cfg;
+            cfg.seed = common.seed;
+            cfg.max_depth = a.max_depth;
+            const PathTracer pt(accel, cfg);
+            const RenderedImage img = render_pathtraced(pt, cam, a.spp);
+            write_rendered_image(img, prefix, a.exposure);
+            write_png(prefix + ".irradiance.png", img.irradiance, tonemap_scale(img.irradiance));
+            log_info("rendered ", cam.width, "x", cam.height, " at ", a.spp, " spp in ", format_duration(img.seconds), " (",
+                     format_count(double(accel.rays_traced()) / img.seconds), " rays/s) -> ", prefix, ".exr, ", prefix,
+                     ".png, ", prefix, ".irradiance.png");
+        });
 }
 
 }  // namespace ltm::cli
