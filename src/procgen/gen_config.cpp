@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "ltm/core/error.h"
+#include "ltm/scene/material.h"
 
 namespace ltm {
 
@@ -142,6 +143,23 @@ const ConfigFields<GenConfig::Lights> &GenConfig::Lights::fields() {
     return f;
 }
 
+const ConfigFields<GenConfig::Glossy> &GenConfig::Glossy::fields() {
+    using C = GenConfig::Glossy;
+    static const std::vector<std::string> metal_names = [] {
+        std::vector<std::string> v;
+        for (const auto &[name, f0] : named_metal_f0()) v.push_back(name);
+        return v;
+    }();
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("p_conductor", &C::p_conductor, "chance that a piece of furniture of `archetypes` is a GGX conductor (all its parts; 0 = none)", between(0, 1))
+            .field("archetypes", &C::archetypes, "furniture archetypes that may be conductors (names from `furniture.archetypes`)")
+            .field("p_walls", &C::p_walls, "chance that a room's walls are a GGX conductor (0 = none)", between(0, 1))
+            .field("roughness", &C::roughness, "GGX α, uniform in the range (paper: 0.1)", between(0.001, 1))
+            .field("metals", &C::metals, "F0 of one of these metals, uniformly (complex IOR at ~650/550/450 nm, scene/material.h)", {}, metal_names);
+    return f;
+}
+
 const ConfigFields<GenConfig::CameraCfg> &GenConfig::CameraCfg::fields() {
     using C = GenConfig::CameraCfg;
     static const ConfigFields<C> f =
@@ -205,6 +223,7 @@ GenConfig GenConfig::from_json(const Json &j, const std::string &where) {
     });
     section("lights", c.lights, nullptr);
     section("camera", c.camera, nullptr);
+    section("glossy", c.glossy, nullptr);
     root.finish();
 
     // Cross-field checks: a door with its corner margins must fit on the shortest wall.
@@ -217,6 +236,13 @@ GenConfig GenConfig::from_json(const Json &j, const std::string &where) {
         LTM_THROW(where, ": /rooms/size: lower bound must be >= rooms.min_side (", c.rooms.min_side, ")");
     if (c.plan.footprint_size.y < 2.f * c.rooms.min_side)
         LTM_THROW(where, ": /plan/footprint_size: upper bound must be >= 2 * rooms.min_side");
+    for (size_t i = 0; i < c.glossy.archetypes.size(); ++i)
+        if (!c.furniture.archetypes.count(c.glossy.archetypes[i]))
+            LTM_THROW(where, ": /glossy/archetypes/", i, ": '", c.glossy.archetypes[i], "' is not a furniture archetype");
+    if (c.glossy.p_conductor > 0.f && c.glossy.archetypes.empty())
+        LTM_THROW(where, ": /glossy/archetypes: p_conductor > 0 needs at least one archetype");
+    if ((c.glossy.p_conductor > 0.f || c.glossy.p_walls > 0.f) && c.glossy.metals.empty())
+        LTM_THROW(where, ": /glossy/metals: conductors need at least one metal");
     return c;
 }
 
@@ -231,6 +257,7 @@ OrderedJson GenConfig::to_json() const {
     j["textures"] = Textures::fields().write(textures);
     j["lights"] = Lights::fields().write(lights);
     j["camera"] = CameraCfg::fields().write(camera);
+    j["glossy"] = Glossy::fields().write(glossy);
     return j;
 }
 

@@ -10,13 +10,14 @@
 #include "ltm/core/error.h"
 #include "ltm/procgen/furniture.h"
 #include "ltm/procgen/palettes.h"
+#include "ltm/scene/material.h"
 #include "ltm/scene/mesh_builder.h"
 
 namespace ltm {
 
 namespace {
 
-enum Stream : uint64_t { k_plan = 1, k_lights = 2, k_furniture = 3, k_camera = 4, k_shell_mat = 5, k_item_mat = 6 };
+enum Stream : uint64_t { k_plan = 1, k_lights = 2, k_furniture = 3, k_camera = 4, k_shell_mat = 5, k_item_mat = 6, k_glossy = 7 };
 
 size_t pick_area_weighted(const std::vector<Rect2f> &rects, Pcg32 &rng) {
     float total = 0.f;
@@ -259,6 +260,23 @@ void place_camera(GeneratedScene &g, const Stages &st, const GenConfig &cfg, uin
     g.scene.cameras.push_back(make_camera(g, st.room_items, cam_room, cam_door, cfg, rng));
 }
 
+// With probability p (one draw from rng), the materials of `meshes` become one GGX conductor:
+// α uniform in cfg.roughness, F0 of a uniformly chosen metal; the albedo the scene points carry
+// is F0 (as scene_json does: the conductor's reflectance). p = 0 draws nothing.
+void maybe_conductor(Scene &scene, const std::vector<int> &meshes, float p, const GenConfig::Glossy &cfg, Pcg32 &rng) {
+    if (!(p > 0.f) || rng.next_float() >= p) return;
+    const float alpha = quantize(rng.uniform(cfg.roughness.x, cfg.roughness.y));
+    const std::string &metal = cfg.metals[std::min(size_t(rng.next_float() * float(cfg.metals.size())), cfg.metals.size() - 1)];
+    const Vec3f f0 = named_metal_f0().at(metal);
+    for (int m : meshes) {
+        Material &mat = scene.materials[size_t(scene.meshes[size_t(m)].material)];
+        mat.bsdf = BsdfKind::conductor;
+        mat.roughness = std::max(alpha, 1e-3f);
+        mat.specular = f0;
+        mat.albedo = Texture::constant(f0);
+    }
+}
+
 // Meshes and materials: shell, furniture, lights (one material per mesh, named like it).
 void add_meshes(GeneratedScene &g, Stages &st, const FloorPlan &plan, const GenConfig &cfg, uint64_t seed) {
     Scene &scene = g.scene;
@@ -272,6 +290,8 @@ void add_meshes(GeneratedScene &g, Stages &st, const FloorPlan &plan, const GenC
         g.rooms[r].shell_meshes = {add_mesh(scene, std::move(s.floor), floor),
                                    add_mesh(scene, std::move(s.ceiling), ceiling),
                                    add_mesh(scene, std::move(s.walls), walls)};
+        Pcg32 rng_glossy(hash_keys({seed, k_glossy, 0, uint64_t(r)}));
+        maybe_conductor(scene, {g.rooms[r].shell_meshes[2]}, cfg.glossy.p_walls, cfg.glossy, rng_glossy);
     }
     for (size_t r = 0; r < g.rooms.size(); ++r)
         for (PlacedItem &it : st.layouts[r].items) {
@@ -285,6 +305,11 @@ void add_meshes(GeneratedScene &g, Stages &st, const FloorPlan &plan, const GenC
                 const int m = add_mesh(scene, std::move(part.mesh), sample_albedo(part.kind, cfg.textures, rng));
                 info.meshes.push_back(m);
                 for (const Vec3f &p : scene.meshes[size_t(m)].positions) info.bounds.expand(p);
+            }
+            const auto &glossy = cfg.glossy.archetypes;
+            if (std::find(glossy.begin(), glossy.end(), info.archetype) != glossy.end()) {
+                Pcg32 rng_glossy(hash_keys({seed, k_glossy, 1, uint64_t(g.furniture.size())}));
+                maybe_conductor(scene, info.meshes, cfg.glossy.p_conductor, cfg.glossy, rng_glossy);
             }
             g.furniture.push_back(info);
         }

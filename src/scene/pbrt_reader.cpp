@@ -15,6 +15,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/image.h"
 #include "ltm/core/log.h"
+#include "ltm/scene/material.h"
 #include "ltm/scene/mesh_builder.h"
 #include "ltm/scene/pbrt_tokenizer.h"
 #include "ltm/scene/ply_mesh.h"
@@ -92,16 +93,6 @@ struct Param {
     std::vector<std::string> strs;   // strings and bare words (true/false)
     bool used = false;
 };
-
-// F0 (linear sRGB) of the metals pbrt-v4 names as "metal-<X>-eta"/"-k" spectra, from their
-// complex refractive indices at ~650/550/450 nm ((n−1)²+k²)/((n+1)²+k²).
-const std::map<std::string, Vec3f> &named_metal_f0() {
-    static const std::map<std::string, Vec3f> m = {
-        {"Ag", {0.97f, 0.96f, 0.92f}}, {"Al", {0.91f, 0.92f, 0.92f}}, {"Au", {0.98f, 0.78f, 0.35f}},
-        {"Cu", {0.96f, 0.64f, 0.54f}}, {"CuZn", {0.94f, 0.79f, 0.51f}}, {"MgO", {0.07f, 0.07f, 0.07f}},
-        {"TiO2", {0.20f, 0.22f, 0.27f}}};
-    return m;
-}
 
 struct PbrtMaterial {
     std::string type = "diffuse", name;

@@ -108,13 +108,24 @@ TEST(GenConfig, TopLevelMustBeAnObject) {
 }  // namespace ltm
 
 // docs/config.md shows each section's table as its description prints it (on failure: paste it).
+TEST(GenConfig, GlossySectionIsCheckedWithLocatedErrors) {
+    EXPECT_EQ(ltm::from_json_error(R"({"glossy": {"p_conductor": 0.5, "roughness": [0.05, 0.3], "metals": ["Au"]}})"), "");
+    EXPECT_NE(ltm::from_json_error(R"({"glossy": {"archetypes": ["table", "piano"]}})").find("/glossy/archetypes/1"), std::string::npos);
+    EXPECT_NE(ltm::from_json_error(R"({"glossy": {"metals": ["Unobtainium"]}})").find("/glossy/metals/0"), std::string::npos);
+    EXPECT_NE(ltm::from_json_error(R"({"glossy": {"roughness": [0.0, 0.1]}})").find("/glossy/roughness"), std::string::npos);
+    EXPECT_NE(ltm::from_json_error(R"({"glossy": {"p_walls": 1.5}})").find("/glossy/p_walls"), std::string::npos);
+    EXPECT_NE(ltm::from_json_error(R"({"glossy": {"p_conductor": 0.5, "archetypes": []}})").find("/glossy/archetypes"), std::string::npos);
+    EXPECT_NE(ltm::from_json_error(R"({"glossy": {"colour": 1}})"), "");
+}
+
 TEST(GenConfig, DocsTablesAreTheDescriptions) {
     const std::string doc = ltm::read_file(LTM_SOURCE_DIR "/docs/config.md");
     using G = ltm::GenConfig;
     for (const std::string &table : {G::Plan::fields().markdown_table(), G::Rooms::fields().markdown_table(),
                                      G::Walls::fields().markdown_table(), G::Doors::fields().markdown_table(),
                                      G::Furniture::fields().markdown_table(), G::Textures::fields().markdown_table(),
-                                     G::Lights::fields().markdown_table(), G::CameraCfg::fields().markdown_table()})
+                                     G::Lights::fields().markdown_table(), G::CameraCfg::fields().markdown_table(),
+                                     G::Glossy::fields().markdown_table()})
         EXPECT_NE(doc.find(table), std::string::npos) << "docs/config.md lacks this table:\n" << table;
 }
 
@@ -129,4 +140,16 @@ TEST(GenConfig, EveryKeyIsDocumented) {
     }
     for (const auto &[name, ranges] : ltm::default_archetypes())
         EXPECT_NE(doc.find("`" + name + "`"), std::string::npos) << name;
+}
+
+// Every shipped generator config parses (the glossy preset turns conductors on).
+TEST(GenConfig, EveryShippedGeneratorConfigParses) {
+    const ltm::GenConfig glossy = ltm::GenConfig::from_json(ltm::parse_json_file(LTM_SOURCE_DIR "/configs/gen/glossy.json"), "glossy.json");
+    EXPECT_GT(glossy.glossy.p_conductor, 0.f);
+    EXPECT_GT(glossy.glossy.p_walls, 0.f);
+    EXPECT_EQ(glossy.glossy.roughness.x, 0.1f);   // the paper's α
+    EXPECT_EQ(glossy.glossy.roughness.y, 0.1f);
+    ltm::GenConfig rest = glossy;   // the rest is the default house
+    rest.glossy = ltm::GenConfig().glossy;
+    EXPECT_EQ(rest.to_json(), ltm::GenConfig().to_json());
 }

@@ -5,12 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 #include <tuple>
 
 #include "ltm/core/json_util.h"
+#include "ltm/scene/material.h"
 #include "ltm/scene/scene_io.h"
 
 namespace ltm {
@@ -304,6 +306,63 @@ TEST(IndoorGenerator, AjarProbabilityOneMakesEveryMultiRoomSceneAjar) {
         ASSERT_GE(g.rooms.size(), 2u);
         EXPECT_TRUE(g.ajar);
     }
+}
+
+// Glossy scenes (paper §7): with the chances at 1, every listed archetype and every room's walls
+// are GGX conductors with α in range and a named metal's F0 (also their scene-point albedo); the
+// geometry, lights and cameras are the default scene's, and the default config draws no conductor.
+TEST(IndoorGenerator, GlossyConductorsChangeMaterialsOnly) {
+    GenConfig glossy;
+    glossy.glossy.p_conductor = 1.f, glossy.glossy.p_walls = 1.f;
+    glossy.glossy.roughness = {0.05f, 0.2f};
+    glossy.glossy.metals = {"Au", "Cu"};
+    int conductors = 0, listed = 0;
+    for (uint64_t seed = 0; seed < 12; ++seed) {
+        const GeneratedScene &plain = default_scenes()[seed];
+        const GeneratedScene g = generate_indoor(glossy, seed);
+        ASSERT_EQ(g.scene.meshes.size(), plain.scene.meshes.size());
+        for (size_t m = 0; m < g.scene.meshes.size(); ++m) EXPECT_EQ(g.scene.meshes[m].positions, plain.scene.meshes[m].positions);
+        EXPECT_EQ(g.scene.cameras[0].eye, plain.scene.cameras[0].eye);
+        for (const Material &mat : plain.scene.materials) EXPECT_EQ(mat.bsdf, BsdfKind::diffuse);
+        auto is_conductor = [&](int mesh) {
+            const Material &mat = g.scene.materials[size_t(g.scene.meshes[size_t(mesh)].material)];
+            if (mat.bsdf != BsdfKind::conductor) return false;
+            EXPECT_GE(mat.roughness, 0.05f);
+            EXPECT_LE(mat.roughness, 0.2f);
+            EXPECT_TRUE(mat.specular == named_metal_f0().at("Au") || mat.specular == named_metal_f0().at("Cu"));
+            EXPECT_TRUE(mat.albedo.is_constant() && mat.albedo.color_a == mat.specular);
+            return true;
+        };
+        for (const RoomInfo &r : g.rooms) {
+            EXPECT_TRUE(is_conductor(r.shell_meshes[2])) << "walls";
+            EXPECT_FALSE(is_conductor(r.shell_meshes[0])) << "floor";
+        }
+        for (const FurnitureInfo &f : g.furniture) {
+            const bool in_list = std::find(glossy.glossy.archetypes.begin(), glossy.glossy.archetypes.end(), f.archetype) !=
+                                 glossy.glossy.archetypes.end();
+            listed += in_list;
+            for (int m : f.meshes) {
+                const bool c = is_conductor(m);
+                EXPECT_EQ(c, in_list) << f.name;
+                conductors += c;
+            }
+        }
+        for (const LightInfo &l : g.lights) EXPECT_FALSE(is_conductor(l.mesh));
+    }
+    EXPECT_GT(listed, 10);
+    EXPECT_GT(conductors, listed);   // every part of a listed piece
+    // A chance of 0.5: about half the listed pieces, decided per piece.
+    glossy.glossy.p_conductor = 0.5f, glossy.glossy.p_walls = 0.f;
+    int half = 0, pieces = 0;
+    for (uint64_t seed = 0; seed < 40; ++seed) {
+        const GeneratedScene g = generate_indoor(glossy, seed);
+        for (const FurnitureInfo &f : g.furniture)
+            if (std::find(glossy.glossy.archetypes.begin(), glossy.glossy.archetypes.end(), f.archetype) != glossy.glossy.archetypes.end()) {
+                ++pieces;
+                half += g.scene.materials[size_t(g.scene.meshes[size_t(f.meshes[0])].material)].bsdf == BsdfKind::conductor;
+            }
+    }
+    EXPECT_NEAR(double(half) / pieces, 0.5, 4.0 * std::sqrt(0.25 / pieces)) << pieces << " pieces";
 }
 
 TEST(IndoorGenerator, MetadataRecordsGeneratorSeedAndConfig) {

@@ -181,6 +181,68 @@ TEST(PathTracer, BinsIntegrateToIrradiance) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(from_bins[c], total[c], 0.04f * total[c]) << c;
 }
 
+// Paper §7's ground truth against a closed form: a point under one rectangular light of radiance L
+// (nothing else in the scene). Bins whose every sub-direction sees the light hold exactly L, bins
+// that see none of it hold 0, and Σ (π/R²)·L̄_bin = π L F, F the point-to-parallel-rectangle view
+// factor (four corner rectangles of sides a, b at height h: F = Σ (1/2π)[X/√(1+X²) atan(Y/√(1+X²))
+// + Y/√(1+Y²) atan(X/√(1+Y²))], X = a/h, Y = b/h).
+TEST(HemisphereBins, QuadLightCoversItsBinsExactly) {
+    const float a = 0.6f, b = 0.4f, h = 1.f, le = 2.f;
+    Scene s;
+    Material m;
+    m.name = "light";
+    m.albedo = Texture::constant(Vec3f(0.f));
+    m.emission = Texture::constant(Vec3f(le));
+    s.add_material(m);
+    TriangleMesh q;
+    q.name = "light";
+    q.material = 0;
+    add_quad_facing(q, {-a, h, -b}, {a, h, -b}, {a, h, b}, {-a, h, b}, {0.f, 0.f, 0.f});
+    s.meshes.push_back(q);
+    const EmbreeAccel accel(s);
+    const PathTracer pt(accel, PathTracerConfig{});
+    const int res = 16;
+    const Vec3f p{0.f, 0.f, 0.f}, n{0.f, 1.f, 0.f};
+    const auto bins = pt.incident_radiance_bins(p, n, 0, res, 64);
+    ASSERT_EQ(bins.size(), size_t(res * res));
+    // Local frame of the bins: z = n (the tracer's frame for n = +y).
+    auto sees_light = [&](Vec3f local) {   // world direction from the tracer's own frame
+        const Frame f(n);
+        const Vec3f d = f.to_world(local);
+        if (d.y <= 0.f) return false;
+        const float t = h / d.y;
+        return std::abs(d.x * t) < a && std::abs(d.z * t) < b;
+    };
+    int full = 0, empty = 0;
+    double sum = 0;
+    for (int i = 0; i < res; ++i)
+        for (int j = 0; j < res; ++j) {
+            int hit = 0;
+            const int sub = 12;
+            for (int u = 0; u <= sub; ++u)
+                for (int v = 0; v <= sub; ++v)
+                    hit += sees_light(square_to_direction({(float(i) + float(u) / sub) / res, (float(j) + float(v) / sub) / res}));
+            const float l = bins[size_t(i * res + j)].y;
+            if (hit == (sub + 1) * (sub + 1)) {
+                ++full;
+                EXPECT_NEAR(l, le, 1e-5f) << i << "," << j;
+            }
+            if (hit == 0) {
+                ++empty;
+                EXPECT_EQ(l, 0.f) << i << "," << j;
+            }
+            sum += double(l) * k_pi / double(res * res);
+        }
+    EXPECT_GT(full, 10);
+    EXPECT_GT(empty, 10);
+    auto corner = [](double x, double y) {
+        return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) + y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
+               (2 * k_pi);
+    };
+    const double f = 4 * corner(a / h, b / h);
+    EXPECT_NEAR(sum, k_pi * le * f, 0.01 * k_pi * le * f) << "view factor " << f;
+}
+
 TEST(HemisphereBins, MappingIsInvertible) {
     Pcg32 rng(5);
     for (int i = 0; i < 10000; ++i) {

@@ -42,6 +42,9 @@ TEST(SceneTransform, RecolorTouchesRoomShellsOnly) {
     const int n = recolor_meshes(s, [](const std::string &name) { return name == "walls" || name == "light"; }, {0.1f, 0.1f, 0.7f});
     EXPECT_EQ(n, 1);   // the light is emissive: kept
     ASSERT_EQ(s.materials.size(), n_materials + 1);
-    for (const auto &m : s.meshes)
-        if (m.name == "walls") EXPECT_EQ(s.materials[size_t(m.material)].albedo.color_a.z, 0.7f);
+    for (const auto &m : s.meshes) {
+        if (m.name == "walls") {
+            EXPECT_EQ(s.materials[size_t(m.material)].albedo.color_a.z, 0.7f);
+        }
+    }
 }

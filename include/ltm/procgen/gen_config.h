@@ -4,6 +4,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "ltm/core/config_fields.h"
 #include "ltm/core/json_util.h"
@@ -130,6 +131,20 @@ struct GenConfig {
         float furniture_clearance = 0.35f;  ///< preferred plan distance to furniture (m)
         int n_candidates = 24;            ///< eye positions tried; the best one is kept
     } camera;
+
+    /// GGX conductors (paper §7's glossy scenes). Off by default: with both chances 0 the generator
+    /// draws nothing for them, so every scene is byte-identical to one generated without this
+    /// section. Drawn from their own random streams: turning them on changes materials only,
+    /// never geometry, lights or cameras.
+    struct Glossy {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Glossy> &fields();
+        float p_conductor = 0.f;   ///< chance that a piece of furniture of `archetypes` is a conductor
+        std::vector<std::string> archetypes{"cabinet", "coffee_table", "desk", "nightstand", "shelves", "table", "wardrobe"};
+        float p_walls = 0.f;       ///< chance that a room's walls are a conductor
+        Vec2f roughness{0.1f, 0.1f};   ///< GGX α, uniform in the range (paper: 0.1)
+        std::vector<std::string> metals{"Ag", "Al", "Au", "Cu", "CuZn"};   ///< F0 from one of these (scene/material.h)
+    } glossy;
 
     /// Strict parse: unknown keys and invalid ranges throw "where: /json/pointer: problem".
     /// Missing keys keep their defaults.

@@ -2,6 +2,7 @@
 // GGX conductors (the glossy material of paper §7).
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "ltm/scene/texture.h"
@@ -25,5 +26,9 @@ struct Material {
         return !emission.is_constant() || max_component(emission.color_a) > 0.f;
     }
 };
+
+/// F0 (linear sRGB) of named metals — pbrt-v4's "metal-<X>-eta"/"-k" spectra (Ag, Al, Au, Cu,
+/// CuZn, MgO, TiO2) — from their complex refractive indices at ~650/550/450 nm.
+const std::map<std::string, Vec3f> &named_metal_f0();
 
 }  // namespace ltm
