@@ -38,7 +38,13 @@ const ConfigFields<DataPreset> &DataPreset::fields() {
             .field("generator", &P::generator, "generator config file (\"\" = built-in defaults)")
             .field("camera_queries", &P::camera_queries,
                    "share of the query points drawn through the scene's cameras at random raster positions (render/view_samples.h); 0 = area-uniform, the paper's",
-                   between(0, 1));
+                   between(0, 1))
+            .field("bin_resolution", &P::bin_resolution,
+                   "R: also bake incident radiance L_in over R×R hemisphere bins per query point (`L_in` [N, R², 3]; paper §7: 32); 0 = none",
+                   between(0, 256))
+            .omit_default()
+            .field("bin_spp", &P::bin_spp, "samples per bin (paper: 64)", between(1, 1 << 20))
+            .omit_default();
     return f;
 }
 
@@ -68,6 +74,11 @@ void write_record(const std::string &path, const SceneRecord &r) {
     if (r.emission_scale) {
         const float s[3] = {r.emission_scale->x, r.emission_scale->y, r.emission_scale->z};
         f.tensors["emission_scale"] = make_f32_tensor({3}, s);
+    }
+    if (r.bin_resolution > 0) {
+        const int64_t nb = int64_t(r.bin_resolution) * r.bin_resolution;
+        LTM_CHECK_EQ(r.l_in.size(), size_t(n * nb * 3));
+        f.tensors["L_in"] = make_f32_tensor({n, nb, 3}, r.l_in.data());
     }
     f.metadata["ltm"] = r.metadata.dump();
     write_safetensors(path, f);
@@ -101,6 +112,17 @@ SceneRecord read_record(const std::string &path) {
         for (float x : s)
             if (!(std::isfinite(x) && x >= 0.f)) LTM_THROW(path, ": emission_scale must be finite and >= 0");
         r.emission_scale = Vec3f(s[0], s[1], s[2]);
+    }
+    if (f.tensors.count("L_in")) {
+        const auto &t = f.tensors.at("L_in");
+        const int64_t nb = t.shape.size() == 3 ? t.shape[1] : 0;
+        const int res = int(std::lround(std::sqrt(double(nb))));
+        if (nb <= 0 || int64_t(res) * res != nb)
+            LTM_THROW(path, ": L_in must be [N, R², 3] with a square bin count, got ", t.shape.size() == 3 ? nb : -1, " bins");
+        r.l_in = f.require("L_in", "F32", {n, nb, 3}, path).as_f32(path);
+        for (float x : r.l_in)
+            if (!(std::isfinite(x) && x >= 0.f)) LTM_THROW(path, ": L_in must be finite and >= 0");
+        r.bin_resolution = res;
     }
     return r;
 }
@@ -162,6 +184,9 @@ SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed
     bs.spp = test ? p.test_spp : p.spp;
     bs.max_depth = p.max_depth;
     bs.seed = seed;
+    bs.bins = p.bin_resolution > 0;
+    bs.bin_resolution = p.bin_resolution;
+    bs.bin_spp = p.bin_spp;
     bs.progress = false;   // per-scene bake bars would drown the dataset bar
     PathTracerConfig pc;
     pc.seed = seed;
@@ -170,6 +195,12 @@ SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed
     const BakedPoints b = bake_points(pt, r.query_points, 0, int64_t(r.query_points.size()), bs);
     for (size_t i = 0; i < b.direct.size(); ++i)
         for (int c = 0; c < 3; ++c) r.e_direct.push_back(b.direct[i][c]), r.e_indirect.push_back(b.indirect[i][c]);
+    if (bs.bins) {
+        r.bin_resolution = p.bin_resolution;
+        r.l_in.reserve(b.bins.size() * 3);
+        for (const Vec3f &l : b.bins)
+            for (int c = 0; c < 3; ++c) r.l_in.push_back(l[c]);
+    }
     const auto t3 = clock::now();
     auto secs = [](auto a, auto b2) { return std::chrono::duration<double>(b2 - a).count(); };
     r.metadata = {{"format", "ltm-record"},

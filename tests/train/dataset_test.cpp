@@ -95,6 +95,48 @@ TEST(Dataset, CameraQueriesAreSeenByTheCamera) {
     EXPECT_THROW(DataPreset::from_json(parse_json(R"({"camera_queries": 1.5})", "p.json"), "p.json"), Error);
 }
 
+// Glossy ground truth (paper §7): with bin_resolution R the record holds L_in [N, R², 3], whose
+// cosine-weighted sum is the point's irradiance E = (π/R²) Σ L̄_bin (E_direct + E⁺ from the
+// independent irradiance bake: equal in expectation); a record with a malformed L_in is an error.
+TEST(Dataset, GlossyRecordsHoldBinsThatIntegrateToTheIrradiance) {
+    test::TempDir dir;
+    BuildOptions opt;
+    opt.preset = small_preset();
+    opt.preset.query_points = 24;
+    opt.preset.spp = 1024;
+    opt.preset.bin_resolution = 8;
+    opt.preset.bin_spp = 64;
+    opt.preset.generator = test::source_path("configs/gen/glossy.json");
+    opt.seeds = {5};
+    opt.out_dir = dir.path("data");
+    build_dataset(opt);
+    const std::string path = list_records(opt.out_dir)[0];
+    const SceneRecord r = read_record(path);
+    ASSERT_EQ(r.bin_resolution, 8);
+    ASSERT_EQ(r.l_in.size(), size_t(24 * 64 * 3));
+    EXPECT_EQ(r.metadata["preset"]["bin_resolution"], 8);
+    double from_bins = 0, irradiance = 0;
+    for (size_t q = 0; q < 24; ++q)
+        for (int c = 0; c < 3; ++c) {
+            for (int b = 0; b < 64; ++b) from_bins += double(r.l_in[(q * 64 + size_t(b)) * 3 + size_t(c)]) * k_pi / 64.0;
+            irradiance += double(r.e_direct[q * 3 + size_t(c)]) + double(r.e_indirect[q * 3 + size_t(c)]);
+        }
+    EXPECT_NEAR(from_bins, irradiance, 0.05 * irradiance);
+    // Without bins the key is not written (older presets keep their exact JSON).
+    EXPECT_FALSE(small_preset().to_json().contains("bin_resolution"));
+    // A non-square bin count is a located error.
+    SafetensorsFile f = read_safetensors(path);
+    std::vector<float> bad(24 * 60 * 3, 0.f);
+    f.tensors["L_in"] = make_f32_tensor({24, 60, 3}, bad.data());
+    write_safetensors(path, f);
+    try {
+        read_record(path);
+        ADD_FAILURE() << "no error";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("L_in"), std::string::npos) << e.what();
+    }
+}
+
 // Several directories (e.g. two presets) merge into one seed-ordered list; a seed twice is an error.
 TEST(Dataset, RecordsOfSeveralDirectoriesMergeBySeed) {
     test::TempDir dir;

@@ -31,6 +31,10 @@ struct DataPreset {
     /// than area-uniformly: 0 = all area-uniform (the paper), 1 = all where a camera looks.
     float camera_queries = 0.f;
     std::string generator;        ///< generator config file ("" = built-in defaults)
+    /// Paper §7's directional ground truth: incident radiance L_in over R×R hemisphere bins per
+    /// query point (render/hemisphere_bins.h), R = bin_resolution; 0 = none (irradiance only).
+    int bin_resolution = 0;
+    int bin_spp = 64;             ///< samples per bin (paper: 64)
 
     /// The keys, limits and docs of the fields above (core/config_fields.h; docs/config.md).
     static const ConfigFields<DataPreset> &fields();
@@ -48,6 +52,8 @@ struct SceneRecord {
     std::vector<float> e_direct;      ///< [N * 3]
     std::vector<float> e_indirect;    ///< [N * 3]
     std::optional<Vec3f> emission_scale;   ///< S = Φ/A (render/scene_points.h); nullopt in older records
+    int bin_resolution = 0;           ///< R; 0 = no L_in
+    std::vector<float> l_in;          ///< [N * R² * 3] incident radiance per bin (bin i·R + j), if R > 0
     OrderedJson metadata;             ///< format_version, preset, generator, seed, spp, timings, ...
 };
 
