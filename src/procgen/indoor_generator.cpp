@@ -9,6 +9,8 @@
 #include "ltm/core/color.h"
 #include "ltm/core/error.h"
 #include "ltm/procgen/furniture.h"
+#include "ltm/procgen/room_layout.h"
+#include "ltm/procgen/room_shell.h"
 #include "ltm/procgen/palettes.h"
 #include "ltm/scene/material.h"
 #include "ltm/scene/mesh_builder.h"

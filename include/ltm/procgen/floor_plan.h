@@ -10,7 +10,6 @@
 
 #include "ltm/core/rng.h"
 #include "ltm/procgen/gen_config.h"
-#include "ltm/scene/mesh.h"
 
 namespace ltm {
 
@@ -67,19 +66,5 @@ struct FloorPlan {
 /// through doors (spanning tree over room adjacency plus optional extra doors). Retries on
 /// failure and falls back to a single rectangular room.
 FloorPlan generate_floor_plan(const GenConfig &cfg, Pcg32 &rng);
-
-/// Which surface a shell face belongs to.
-enum class ShellSurface { floor, ceiling, walls };
-
-/// The room shell: per room, one mesh each for floor, ceiling and walls, normals into the air.
-struct RoomShell {
-    TriangleMesh floor, ceiling, walls;
-};
-
-/// Builds the watertight shell: air = room interiors + door openings; every face between an air
-/// cell and a solid cell of the rectilinear grid over all breakpoints becomes a quad facing the
-/// air. Faces of door cells go to room_a (threshold to its floor, jambs and lintel to its
-/// walls). uvs are world-space metres, so patterns continue across faces.
-std::vector<RoomShell> build_room_shell(const FloorPlan &plan);
 
 }  // namespace ltm

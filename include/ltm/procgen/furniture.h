@@ -1,5 +1,5 @@
-// furniture.h: furniture archetypes built from boxes and cylinders, and their placement in a
-// room without interpenetration, with clearance, clear of doors and (for tall pieces) lights.
+// furniture.h: furniture archetypes built from boxes and cylinders in a local frame, and their
+// placement in world space by quarter turns. Where pieces go in a room: procgen/room_layout.h.
 #pragma once
 
 #include <string>
@@ -40,40 +40,11 @@ Placement archetype_placement(const std::string &archetype);
 FurnitureModel build_furniture(const std::string &archetype, const ArchetypeRanges &ranges,
                                float max_height, Pcg32 &rng);
 
+/// A plan offset (x, z) turned by q·90° about +y: q = 1 takes local +z (the front) to world +x.
+Vec2f rotate_quarter(int q, Vec2f p);
 /// World footprint of a model turned by quarter_turns·90° about +y and centred at `center`.
 Rect2f model_footprint(const FurnitureModel &model, int quarter_turns, Vec2f center);
 /// Moves the parts to world space: exact quarter turns (no trigonometry), then translation.
 void place_model(FurnitureModel &model, int quarter_turns, Vec2f center);
-
-/// A placed piece in world space.
-struct PlacedItem {
-    FurnitureModel model;
-    Rect2f footprint;
-    int quarter_turns = 0;
-    Vec2f center;
-};
-
-/// The furniture of one room and the role that chose it.
-struct RoomLayout {
-    std::string role;   ///< bedroom, living, dining, office, hallway
-    std::vector<PlacedItem> items;
-};
-
-/// What furnish_room() needs to know about a room.
-struct RoomLayoutInput {
-    std::string kind = "room";          ///< "room" or "hallway"
-    std::vector<Rect2f> rects;          ///< interior rectangles (air), metres
-    float ceiling_height = 2.7f;
-    std::vector<Rect2f> keep_out;       ///< door clear zones: no furniture at all
-    std::vector<Rect2f> tall_keep_out;  ///< lights grown by the clearance: no tall furniture
-    int max_items = -1;                 ///< cap (ajar light room); -1: from the config density
-};
-
-/// Picks a role (bedroom, living, dining, office; hallways get their own list), places its
-/// anchor piece with companions (nightstands, chairs, coffee table), an optional carpet and
-/// further pieces by rejection sampling. Guarantees: every footprint lies inside one interior
-/// rectangle, footprints are at least `clearance` apart, none meets a keep-out zone, and no
-/// piece taller than lights.tall_height meets a tall keep-out zone.
-RoomLayout furnish_room(const RoomLayoutInput &room, const GenConfig &cfg, Pcg32 &rng);
 
 }  // namespace ltm
