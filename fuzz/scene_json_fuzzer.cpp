@@ -5,7 +5,7 @@
 #include <string>
 
 #include "ltm/core/error.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     const std::string text(reinterpret_cast<const char *>(data), size);

@@ -9,12 +9,13 @@
 
 #include "cli.h"
 #include "ltm/core/file_util.h"
+#include "ltm/core/json_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
 #include "ltm/points/ply_io.h"
 #include "ltm/points/safetensors.h"
 #include "ltm/render/bake.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 
 namespace fs = std::filesystem;
 

@@ -11,7 +11,8 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/image.h"
 #include "ltm/core/log.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
+#include "ltm/scene/scene_loader.h"
 
 namespace ltm::cli {
 

@@ -9,7 +9,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/scene/scene_edit.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
 
 namespace ltm::cli {
 

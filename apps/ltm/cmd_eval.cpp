@@ -12,9 +12,9 @@
 #include "ltm/eval/experiment.h"
 #include "ltm/eval/physics_check.h"
 #include "ltm/infer/neural_renderer.h"
-#include "ltm/procgen/training_range.h"
 #include "ltm/procgen/indoor_generator.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/procgen/training_range.h"
+#include "ltm/scene/scene_loader.h"
 
 namespace ltm::cli {
 

@@ -6,7 +6,7 @@
 #include "cli.h"
 #include "ltm/core/log.h"
 #include "ltm/procgen/indoor_generator.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
 
 namespace ltm::cli {
 

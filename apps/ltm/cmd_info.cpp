@@ -8,7 +8,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/points/safetensors.h"
 #include "ltm/procgen/training_range.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 #ifdef LTM_WITH_TORCH
 #include "ltm/nn/checkpoint.h"
 #endif

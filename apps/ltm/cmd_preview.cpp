@@ -6,7 +6,7 @@
 #include "cli.h"
 #include "ltm/core/log.h"
 #include "ltm/render/preview.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 
 namespace ltm::cli {
 

@@ -9,7 +9,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/eval/metrics.h"
 #include "ltm/render/image_renderer.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 
 namespace ltm::cli {
 

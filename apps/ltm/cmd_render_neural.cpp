@@ -6,7 +6,7 @@
 #include "ltm/eval/metrics.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/procgen/training_range.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 
 namespace ltm::cli {
 

@@ -14,7 +14,7 @@
 #include "ltm/points/surface_sampler.h"
 #include "ltm/render/enclosure.h"
 #include "ltm/render/scene_points.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 
 namespace ltm::cli {
 

@@ -10,7 +10,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/json_util.h"
 #include "ltm/core/log.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
 
 namespace ltm {
 namespace {

@@ -1,4 +1,6 @@
 // obj_io.cpp: Wavefront OBJ + MTL through tinyobjloader. One TriangleMesh per (shape, material).
+#include "ltm/scene/obj_io.h"
+
 #include <filesystem>
 #include <map>
 
@@ -6,7 +8,6 @@
 
 #include "ltm/core/color.h"
 #include "ltm/core/error.h"
-#include "ltm/scene/scene_io.h"
 
 namespace fs = std::filesystem;
 

@@ -10,7 +10,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/mesh_builder.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
 #include "test_util.h"
 
 using namespace ltm;

@@ -11,7 +11,8 @@
 #include "ltm/render/embree_accel.h"
 #include "ltm/render/scene_points.h"
 #include "ltm/scene/builtin_scenes.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
+#include "ltm/scene/scene_loader.h"
 #include "test_util.h"
 #ifdef LTM_WITH_TORCH
 #include "ltm/nn/checkpoint.h"

@@ -4,11 +4,11 @@
 
 #include "ltm/core/error.h"
 #include "ltm/infer/neural_renderer.h"
-#include "ltm/render/direct_light.h"
 #include "ltm/nn/checkpoint.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/render/direct_light.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/pbrt_reader.h"
+#include "ltm/scene/scene_loader.h"
 #include "pbrt_writer.h"
 #include "test_util.h"
 

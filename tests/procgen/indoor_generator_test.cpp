@@ -13,7 +13,7 @@
 
 #include "ltm/core/json_util.h"
 #include "ltm/scene/material.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
 
 namespace ltm {
 namespace {

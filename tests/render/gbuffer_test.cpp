@@ -5,7 +5,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
 #include "ltm/render/gbuffer.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 
 using namespace ltm;
 

@@ -9,7 +9,7 @@
 #include "ltm/core/parallel.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/view_samples.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 
 using namespace ltm;
 

@@ -9,8 +9,9 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/scene/gltf_reader.h"
+#include "ltm/scene/obj_io.h"
 #include "ltm/scene/pbrt_reader.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 #include "test_util.h"
 
 using namespace ltm;

@@ -16,7 +16,7 @@
 #include "ltm/scene/pbrt_reader.h"
 #include "ltm/scene/pbrt_tokenizer.h"
 #include "ltm/scene/ply_mesh.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_loader.h"
 #include "pbrt_writer.h"
 #include "test_util.h"
 

@@ -4,7 +4,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/scene/scene_edit.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
 
 using namespace ltm;
 

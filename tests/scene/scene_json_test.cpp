@@ -6,7 +6,8 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/scene/builtin_scenes.h"
-#include "ltm/scene/scene_io.h"
+#include "ltm/scene/scene_json.h"
+#include "ltm/scene/scene_loader.h"
 #include "test_util.h"
 
 using namespace ltm;
