@@ -56,8 +56,8 @@ Command make_render_command();
 Command make_bake_command();
 Command make_edit_command();
 Command make_convert_command();
-Command make_dataset_command();   // the three below need libtorch (LTM_WITH_TORCH)
-Command make_train_command();
+Command make_dataset_command();
+Command make_train_command();   // this and the two below need libtorch (LTM_WITH_TORCH)
 Command make_export_command();
 Command make_eval_command();
 

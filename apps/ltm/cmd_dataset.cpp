@@ -8,7 +8,7 @@
 #include "cli.h"
 #include "ltm/core/error.h"
 #include "ltm/render/bake.h"
-#include "ltm/train/dataset.h"
+#include "ltm/data/dataset.h"
 
 namespace ltm::cli {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "ltm/core/log.h"
-#include "ltm/train/dataset.h"
+#include "ltm/data/dataset.h"
 #include "test_util.h"
 
 namespace ltm::test {

@@ -13,7 +13,7 @@
 #include "ltm/core/config_fields.h"
 #include "ltm/core/json_util.h"
 #include "ltm/nn/ltm_model.h"
-#include "ltm/train/dataset.h"
+#include "ltm/data/dataset.h"
 #include "ltm/train/distributed.h"
 
 namespace ltm {

@@ -8,7 +8,7 @@
 #include "ltm/core/math.h"
 #include "ltm/points/safetensors.h"
 #include "ltm/procgen/indoor_generator.h"
-#include "ltm/train/dataset.h"
+#include "ltm/data/dataset.h"
 #include "test_util.h"
 
 using namespace ltm;
