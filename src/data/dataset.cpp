@@ -48,7 +48,14 @@ const ConfigFields<DataPreset> &DataPreset::fields() {
     return f;
 }
 
-DataPreset DataPreset::from_json(const Json &j, const std::string &where) { return fields().read(j, where); }
+DataPreset DataPreset::from_json(const Json &j, const std::string &where) {
+    return fields().read(j, where, DataPreset{}, [](JsonObject &o, DataPreset &p) {
+        // L_in holds N·R² radiances per record (and the bake as many in memory).
+        if (double(p.query_points) * double(p.bin_resolution) * double(p.bin_resolution) > double(k_max_sample_count))
+            LTM_THROW(o.where("bin_resolution"), ": ", p.query_points, " query points × ", p.bin_resolution, "² bins exceed ",
+                      k_max_sample_count, " radiances per record");
+    });
+}
 
 DataPreset DataPreset::from_file(const std::string &path) { return from_json(parse_json_file(path), path); }
 

@@ -228,20 +228,26 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
     // The segment test depends on its direction (samples every h/2 from the first end; surfaces
     // met from the front), so each pair is tested from the end nearer the grid's centre (then the
     // lower one): an order the training symmetries and the unit keep, unlike the groups' key order.
+    // -1: i first, 1: j first, 0: a tie no symmetry-kept order breaks (both directions tested).
     auto first_end = [&](size_t i, size_t j) {
         const double di = dist2(out.position[i], centre), dj = dist2(out.position[j], centre);
-        if (std::abs(di - dj) > tie) return di < dj;
-        if (out.position[i].y != out.position[j].y) return out.position[i].y < out.position[j].y;
-        return true;
+        if (std::abs(di - dj) > tie) return di < dj ? -1 : 1;
+        if (out.position[i].y != out.position[j].y) return out.position[i].y < out.position[j].y ? -1 : 1;
+        return 0;
     };
     out.visible.assign(C * C, 0);
     parallel_for(0, int64_t(C), 4, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             out.visible[size_t(i) * C + size_t(i)] = 1;
             for (size_t j = size_t(i) + 1; j < C; ++j) {
-                const size_t s = first_end(size_t(i), j) ? size_t(i) : j, t = s == j ? size_t(i) : j;
-                out.visible[size_t(i) * C + j] =
-                    !lifted_blocked(out.occupancy, out.position[s], out.normal[s], out.position[t], out.normal[t]);
+                const size_t a = size_t(i);
+                const int order = first_end(a, j);
+                auto blocked_from = [&](size_t s, size_t t) {
+                    return lifted_blocked(out.occupancy, out.position[s], out.normal[s], out.position[t], out.normal[t]);
+                };
+                const bool blocked = order < 0 ? blocked_from(a, j) : order > 0 ? blocked_from(j, a)
+                                                                                : blocked_from(a, j) || blocked_from(j, a);
+                out.visible[a * C + j] = !blocked;
             }
         }
     });

@@ -102,12 +102,15 @@ std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, 
     int64_t candidates = 0, passed = 0;
     for (uint64_t round = 0;; ++round) {
         if (round > 0) {
-            if (passed == 0 && round >= 2)
+            // Small draws can see no survivor by chance (n = 1 at a 30 % rejection rate): keep
+            // drawing until 2n and at least 4 096 candidates have been judged before calling the
+            // surface unreachable, and project the count needed from at least one survivor.
+            if (passed == 0 && candidates >= std::max<int64_t>(2 * n_points, 4096))
                 LTM_THROW("sample_surface(): every candidate point was rejected (all surfaces enclosed?)");
-            const double frac = std::max(double(passed) / double(candidates), 1e-9);
+            const double frac = double(std::max<int64_t>(passed, 1)) / double(candidates);
             if (double(n_points) / frac > double(k_max_sample_count))
-                LTM_THROW("sample_surface(): only ", 100 * frac, "% of the surface passes the filter; ", n_points,
-                          " points would need more than ", k_max_sample_count, " candidates");
+                LTM_THROW("sample_surface(): only ", 100 * double(passed) / double(candidates), "% of the surface passes the filter; ",
+                          n_points, " points would need more than ", k_max_sample_count, " candidates");
         }
         std::vector<SurfaceSample> cand = draw(scene, dist, n_points, seed, stream, round);
         std::vector<uint8_t> keep(cand.size());

@@ -267,9 +267,13 @@ void place_camera(GeneratedScene &g, const Stages &st, const GenConfig &cfg, uin
 // is F0 (as scene_json does: the conductor's reflectance). p = 0 draws nothing.
 void maybe_conductor(Scene &scene, const std::vector<int> &meshes, float p, const GenConfig::Glossy &cfg, Pcg32 &rng) {
     if (!(p > 0.f) || rng.next_float() >= p) return;
+    // GenConfig::from_json checks these; a config built in code may not have been read.
+    if (cfg.metals.empty()) LTM_THROW("generator: glossy conductors need at least one metal (glossy.metals)");
     const float alpha = quantize(rng.uniform(cfg.roughness.x, cfg.roughness.y));
     const std::string &metal = cfg.metals[std::min(size_t(rng.next_float() * float(cfg.metals.size())), cfg.metals.size() - 1)];
-    const Vec3f f0 = named_metal_f0().at(metal);
+    const auto f0_it = named_metal_f0().find(metal);
+    if (f0_it == named_metal_f0().end()) LTM_THROW("generator: glossy.metals: unknown metal '", metal, "'");
+    const Vec3f f0 = f0_it->second;
     for (int m : meshes) {
         Material &mat = scene.materials[size_t(scene.meshes[size_t(m)].material)];
         mat.bsdf = BsdfKind::conductor;

@@ -73,3 +73,22 @@ TEST(ConfigFields, TableShowsDefaultsLimitsAndDocs) {
               "| `seed` | `7` | any | a seed |\n"
               "| `eps` | `1.0` | > 0 | a positive number |\n");
 }
+
+// Seeds use the whole uint64 range (the CLI's --seed does): what write() emits, read() takes back.
+TEST(ConfigFields, Uint64FieldsRoundTripTheirWholeRange) {
+    Toy t;
+    t.seed = (uint64_t(1) << 63) + 12345;
+    const Toy back = Toy::fields().read(parse_json(Toy::fields().write(t).dump(), "toy.json"), "toy.json");
+    EXPECT_EQ(back.seed, t.seed);
+    EXPECT_NE(error_of(R"({"seed": -1})").find("/seed"), std::string::npos);
+    EXPECT_NE(error_of(R"({"seed": 1.5})").find("/seed"), std::string::npos);
+}
+
+// Integer limits compare without casting the bound into the value's type.
+TEST(ConfigFields, IntegerLimitsOutsideTheTypesRangeHoldExactly) {
+    EXPECT_TRUE(at_least(-1).contains(uint64_t(0)));
+    EXPECT_FALSE(between(-5e9, -4e9).contains(int(0)));
+    EXPECT_TRUE(between(-5e9, 5e9).contains(int(7)));
+    EXPECT_FALSE(positive().contains(int(0)));
+    EXPECT_TRUE(positive().contains(int(1)));
+}

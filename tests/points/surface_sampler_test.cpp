@@ -163,6 +163,18 @@ TEST(SurfaceSampler, OneFlippedCandidateChangesOnePoint) {
     }
 }
 
+// A draw of one point whose first candidate happens to be rejected draws again (it used to give
+// up at once); a surface that nothing passes is still an error.
+TEST(SurfaceSampler, SmallDrawsSurviveAnUnluckyFirstRound) {
+    const Scene s = single_quad_scene(Texture::constant(Vec3f(0.5f)));
+    for (uint64_t seed = 0; seed < 64; ++seed) {
+        const auto one = sample_surface(s, 1, seed, SampleStream::query_points, [](const SurfaceSample &x) { return x.p.x < 0.3f; });
+        ASSERT_EQ(one.size(), 1u);
+        EXPECT_GE(one[0].p.x, 0.3f);
+    }
+    EXPECT_THROW(sample_surface(s, 4, 1, SampleStream::query_points, [](const SurfaceSample &) { return true; }), Error);
+}
+
 TEST(SurfaceSampler, BadCountsAreErrors) {
     const Scene s = cornell_box();
     EXPECT_THROW(sample_surface(s, 0, 1, SampleStream::scene_points), Error);

@@ -30,12 +30,19 @@ namespace ltm {
 struct FieldLimits {
     double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
     bool hi_open = false, lo_open = false;
-    /// Compared in the value's own type (a float field's bound 1e-4 is the float 1e-4f).
+    /// Floats compare in their own type (a float field's bound 1e-4 is the float 1e-4f); integers
+    /// in long double, so a bound outside the type's range (a negative bound of a uint64_t) is
+    /// never cast into it.
     template <class V>
     bool contains(V v) const {
-        const V l = std::isfinite(lo) ? V(lo) : std::numeric_limits<V>::lowest();
-        const V h = std::isfinite(hi) ? V(hi) : std::numeric_limits<V>::max();
-        return (lo_open ? v > l : v >= l) && (hi_open ? v < h : v <= h);
+        if constexpr (std::is_floating_point_v<V>) {
+            const V l = std::isfinite(lo) ? V(lo) : std::numeric_limits<V>::lowest();
+            const V h = std::isfinite(hi) ? V(hi) : std::numeric_limits<V>::max();
+            return (lo_open ? v > l : v >= l) && (hi_open ? v < h : v <= h);
+        } else {
+            const long double x = static_cast<long double>(v), l = lo, h = hi;
+            return (lo_open ? x > l : x >= l) && (hi_open ? x < h : x <= h);
+        }
     }
     bool bounded() const { return std::isfinite(lo) || std::isfinite(hi); }
 };
@@ -148,10 +155,11 @@ private:
         else if constexpr (std::is_same_v<V, std::string>) v = o.get_string(f.key, v);
         else if constexpr (std::is_same_v<V, float>) v = o.get_float(f.key, v);
         else if constexpr (std::is_same_v<V, int>) v = o.get_int(f.key, v);
-        else if constexpr (std::is_same_v<V, uint64_t>) {
-            const int x = o.get_int(f.key, 0);
-            if (x < 0) LTM_THROW(o.where(f.key), ": must be >= 0");
-            v = uint64_t(x);
+        else if constexpr (std::is_same_v<V, uint64_t>) {   // the full range (seeds), not int's
+            const Json &x = o.require(f.key);
+            if (!x.is_number_integer() || (!x.is_number_unsigned() && x.get<int64_t>() < 0))
+                LTM_THROW(o.where(f.key), ": must be >= 0 (an integer)");
+            v = x.get<uint64_t>();
         } else if constexpr (std::is_same_v<V, Vec2f>) v = o.get_range(f.key, v);   // checks lo <= hi
         else if constexpr (std::is_same_v<V, IntRange>) {
             const Json &r = o.require(f.key);

@@ -89,8 +89,11 @@ struct ClusterVisibility {
 /// Clusters the m nodes and tests visibility between every pair of cluster centres against
 /// `occupancy` (of all scene points). Centres: the nodes are grouped by a cube grid of edge
 /// g = h·√(2·n_solid/C) centred on the occupancy's centre and by the axis their normal faces most
-/// (±x, ±y, ±z); each group's centre is its node nearest to the group's mean (ties: the smaller
-/// position), groups in key order — about C of them on generated houses. Unlike farthest point
+/// (±x, ±y, ±z); each group's centre is its node nearest to the group's mean (ties within rounding:
+/// the node nearer the grid centre, then the smaller position), groups in key order — about C of
+/// them on generated houses (a target, not a cap: cells holding several facings give more groups;
+/// the pair tests cost O(C²)); a pair whose ends no kept order tells apart is tested both ways.
+/// Unlike farthest point
 /// sampling (greedy: one node more or less changes every later centre), one node added or removed
 /// changes at most its own group's centre, so the occlusion does not jump when a rescaled scene
 /// samples a borderline point differently; the grid maps to itself under the training symmetries
