@@ -11,13 +11,14 @@
 #include "rank_launcher.h"
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
+#include "ltm/nn/checkpoint.h"
 #include "ltm/train/trainer.h"
 
 namespace ltm::cli {
 
 namespace {
 struct TrainArgs {
-    std::string model, out, config, init, device = "cpu";
+    std::string model, out, config, init, head, freeze, device = "cpu";
     std::vector<std::string> data, val_data, overrides;
     bool start_at_prior = false;
     bool resume = false;
@@ -29,14 +30,17 @@ struct TrainArgs {
 // The command line one rank of `--nproc` runs: these arguments without --nproc, with its share of
 // the threads.
 std::vector<std::string> rank_args(const TrainArgs &a, const CommonOptions &common, int threads) {
-    std::vector<std::string> v = {"train", "--model", a.model, "--out", a.out, "--device", a.device, "--threads",
+    std::vector<std::string> v = {"train", "--out", a.out, "--device", a.device, "--threads",
                                   std::to_string(threads), "--seed", std::to_string(common.seed),
                                   "--dist-timeout", std::to_string(a.dist_timeout)};
+    if (!a.model.empty()) v.insert(v.end(), {"--model", a.model});
     for (const auto &d : a.data) v.insert(v.end(), {"--data", d});
     for (const auto &d : a.val_data) v.insert(v.end(), {"--val-data", d});
     for (const auto &o : a.overrides) v.insert(v.end(), {"--set", o});
     if (!a.config.empty()) v.insert(v.end(), {"--config", a.config});
     if (!a.init.empty()) v.insert(v.end(), {"--init", a.init});
+    if (!a.head.empty()) v.insert(v.end(), {"--head", a.head});
+    if (!a.freeze.empty()) v.insert(v.end(), {"--freeze", a.freeze});
     if (a.steps > 0) v.insert(v.end(), {"--steps", std::to_string(a.steps)});
     if (a.resume) v.push_back("--resume");
     if (a.start_at_prior) v.push_back("--start-at-prior");
@@ -74,7 +78,7 @@ Command make_train_command() {
     return make_command<TrainArgs>(
         "train", "Train the light transport model on a dataset (checkpoints, validation, exact resume)",
         [](CLI::App &sub, TrainArgs &a, CommonOptions &) {
-            sub.add_option("--model", a.model, "Model config (configs/model/{tiny,cpu,paper}.json)")->required();
+            sub.add_option("--model", a.model, "Model config (configs/model/{tiny,cpu,paper}.json); default with --init: the weights' own");
             sub.add_option("--data", a.data, "Dataset directory (ltm dataset build); repeat to train on several")->required();
             sub.add_option("--val-data", a.val_data,
                            "Validation dataset directory (repeatable); with it every --data record trains and val_fraction is unused");
@@ -87,6 +91,12 @@ Command make_train_command() {
             sub.add_flag("--start-at-prior", a.start_at_prior,
                          "Zero the decoder's output layer after --init (or at a fresh start): the model starts as its prior "
                          "(E⁺ = output scale, e.g. physics.prior_field \"transport\") and learns the correction");
+            sub.add_option("--head", a.head,
+                           "Shorthand for --set head=...: irradiance (E⁺) or directional (L_in over hemisphere bins; adds a default "
+                           "\"directional\" section to a model config without one)")
+                ->check(CLI::IsMember({"irradiance", "directional"}));
+            sub.add_option("--freeze", a.freeze, "Shorthand for --set freeze=...: encoder keeps the embedding and PTv3 weights")
+                ->check(CLI::IsMember({"none", "encoder"}));
             sub.add_option("--device", a.device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
             sub.add_option("--nproc", a.nproc,
                            "Data-parallel ranks to launch on this machine (torchrun's variables; scenes_per_step must be a "
@@ -108,9 +118,18 @@ Command make_train_command() {
             Json cfg = a.config.empty() ? Json(TrainConfig{}.to_json()) : parse_json_file(a.config);
             cfg["seed"] = common.seed;
             if (a.steps > 0) cfg["steps"] = a.steps;
+            if (!a.head.empty()) cfg["head"] = a.head;
+            if (!a.freeze.empty()) cfg["freeze"] = a.freeze;
             for (const auto &o : a.overrides) apply_json_override(cfg, o);
             const TrainConfig tc = TrainConfig::from_json(cfg, a.config.empty() ? "training config" : a.config);
-            const ModelConfig mc = ModelConfig::from_file(a.model);
+            // The model config: --model, else a resumed run's own, else the --init weights'.
+            if (a.model.empty() && a.resume) a.model = a.out + "/model.json";
+            if (a.model.empty() && a.init.empty()) LTM_THROW("--model is required (or --init, whose weights carry their config)");
+            ModelConfig mc = a.model.empty() ? load_weights(a.init)->cfg : ModelConfig::from_file(a.model);
+            if (tc.head == "directional" && !mc.directional) {
+                mc.directional = DirectionalConfig{};
+                log_info("model '", mc.name, "': adding a directional head with the default \"directional\" section");
+            }
             if (a.device == "cuda" && !torch::cuda::is_available())
                 LTM_THROW("--device cuda: this libtorch has no CUDA device (", torch::cuda::device_count(), " found)");
             Trainer trainer(mc, tc, a.data, a.out, a.device == "cuda" ? torch::Device(torch::kCUDA) : torch::Device(torch::kCPU),

@@ -141,6 +141,9 @@ LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
     embedding = register_module("embedding", NNEmbedding(cfg.embedding));
     encoder = register_module("encoder", PTv3(cfg.encoder));
     decoder = register_module("decoder", QueryDecoder(cfg.decoder, encoder->out_channels()));
+    if (cfg.directional)
+        directional = register_module("directional", DirectionalDecoder(*cfg.directional, encoder->out_channels(),
+                                                                        !cfg.physics.translation_invariant));
 }
 
 SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) const {
@@ -211,6 +214,43 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     return out;
 }
 
+torch::Tensor LtmModelImpl::decode_radiance(const torch::Tensor &query_points, const torch::Tensor &direction,
+                                            const SceneLatents &latents) {
+    if (!directional) LTM_THROW("model '", cfg.name, "' has no directional head (train one: ltm train --head directional)");
+    const auto q = normalize_query_points(query_points, latents.norm);
+    TORCH_CHECK(direction.dim() == 2 && direction.size(1) == 3 && direction.size(0) == query_points.size(0),
+                "decode_radiance: direction must be [N, 3] for N = ", query_points.size(0), " queries, got ", direction.sizes());
+    if (!torch::isfinite(direction).all().item<bool>()) LTM_THROW("directions contain NaN or Inf");
+    // L_in is defined on the hemisphere around n: a unit ω with n·ω ≥ 0 (grazing allowed).
+    const auto len_err = (direction.norm(2, 1) - 1.0).abs();
+    if (direction.size(0) > 0 && len_err.max().item<double>() > 1e-3) {
+        const int64_t i = len_err.argmax().item<int64_t>();
+        LTM_THROW("direction ", i, " is not a unit vector (length ", direction[i].norm().item<double>(), ")");
+    }
+    const auto cos = (direction * query_points.slice(1, 3, 6)).sum(1);
+    if (direction.size(0) > 0 && cos.min().item<double>() < -1e-3) {
+        const int64_t i = cos.argmin().item<int64_t>();
+        LTM_THROW("direction ", i, " is below the surface (n·ω = ", cos[i].item<double>(), ")");
+    }
+    const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
+    const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
+    return directional->forward(q, direction, latents.features, latents.anchors, idx);
+}
+
+torch::Tensor LtmModelImpl::predict_radiance(const torch::Tensor &query_points, const torch::Tensor &direction,
+                                             const SceneLatents &latents, int64_t chunk) {
+    torch::NoGradGuard no_grad;
+    TORCH_CHECK(direction.dim() == 2 && direction.size(1) == 3 && direction.size(0) == query_points.size(0),
+                "predict_radiance: direction must be [N, 3] for N = ", query_points.size(0), " queries, got ", direction.sizes());
+    std::vector<torch::Tensor> parts;
+    for (int64_t s = 0; s < query_points.size(0); s += chunk) {
+        const int64_t e = std::min(query_points.size(0), s + chunk);
+        const auto qp = query_points.slice(0, s, e);
+        parts.push_back(radiance_from_z(decode_radiance(qp, direction.slice(0, s, e), latents), output_scale(qp, latents.norm)));
+    }
+    return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
+}
+
 int64_t LtmModelImpl::n_parameters() const {
     int64_t n = 0;
     for (const auto &p : parameters()) n += p.numel();
@@ -222,6 +262,8 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 }
 
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }
+
+torch::Tensor radiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * (1.0 / k_pi) * torch::expm1(z); }
 
 torch::Tensor normalized_target(const torch::Tensor &target, const torch::Tensor &scale) {
     return torch::where(scale > 0, target / scale.clamp_min(1e-30), torch::zeros_like(target));

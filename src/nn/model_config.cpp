@@ -30,6 +30,19 @@ const ConfigFields<DecoderConfig> &DecoderConfig::fields() {
     return f;
 }
 
+const ConfigFields<DirectionalConfig> &DirectionalConfig::fields() {
+    using C = DirectionalConfig;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("dim", &C::dim, "D of the head's query features and attention values", at_least(1))
+            .field("n_layers", &C::n_layers, "stacked cross-attention blocks", at_least(1))
+            .field("groups", &C::groups, "G weight groups of grouped vector attention; divides dim", at_least(1))
+            .field("ffn_ratio", &C::ffn_ratio, "hidden width of each block's FFN = ffn_ratio · dim", between(1, 64))
+            .field("direction_frequencies", &C::direction_frequencies, "F octaves of the direction's Fourier features sin/cos(2^k π ω)", between(0, 12))
+            .field("bin_resolution", &C::bin_resolution, "R of the R×R hemisphere bins it is trained on and renders/guides with (paper: 32)", between(1, 256));
+    return f;
+}
+
 const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
     using C = PhysicsConfig;
     static const ConfigFields<C> f =
@@ -59,7 +72,7 @@ const ConfigFields<ModelConfig> &ModelConfig::fields() {
 std::string ModelConfig::markdown_tables() {
     return fields().markdown_table() + "\n" + EmbeddingConfig::fields().markdown_table("embedding.") + "\n" +
            PTv3Config::fields().markdown_table("encoder.") + "\n" + DecoderConfig::fields().markdown_table("decoder.") + "\n" +
-           PhysicsConfig::fields().markdown_table("physics.");
+           PhysicsConfig::fields().markdown_table("physics.") + "\n" + DirectionalConfig::fields().markdown_table("directional.");
 }
 
 ModelConfig ModelConfig::from_json(const Json &j, const std::string &where) {
@@ -94,6 +107,12 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
             if (p.prior_bounces > 0 && !p.emission_scale)
                 LTM_THROW(ph.where("prior_bounces"), ": the power-balance prior needs emission_scale");
         });
+    if (o.has("directional"))
+        c.directional = DirectionalConfig::fields().read(o.require("directional"), o.where("directional"), DirectionalConfig{},
+                                                         [](JsonObject &d, DirectionalConfig &dc) {
+                                                             if (dc.dim % dc.groups != 0)
+                                                                 LTM_THROW(d.where("groups"), ": dim ", dc.dim, " is not divisible by groups ", dc.groups);
+                                                         });
 }
 
 ModelConfig ModelConfig::from_file(const std::string &path) { return from_json(parse_json_file(path), path); }
@@ -108,6 +127,7 @@ OrderedJson ModelConfig::to_json() const {
     // Keys marked omit_default are written only when set: configs, weights and checkpoints from
     // before them keep their exact JSON (checkpoints compare it on resume).
     if (physics.any()) j["physics"] = PhysicsConfig::fields().write(physics);
+    if (directional) j["directional"] = DirectionalConfig::fields().write(*directional);
     return j;
 }
 

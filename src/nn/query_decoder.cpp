@@ -57,16 +57,37 @@ QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) :
     // No LayerNorm inside γ: it runs on [N, κ, D] and normalising there costs more than the MLP.
     pos_mlp = register_module("pos_mlp", torch::nn::Sequential(torch::nn::Linear(3, cfg.dim), torch::nn::ReLU(),
                                                                torch::nn::Linear(cfg.dim, cfg.dim)));
-    attention = register_module("attention", torch::nn::ModuleList());
-    norms = register_module("norms", torch::nn::ModuleList());
-    ffn = register_module("ffn", torch::nn::ModuleList());
-    ffn_norms = register_module("ffn_norms", torch::nn::ModuleList());
-    for (int l = 0; l < cfg.n_layers; ++l) {
-        attention->push_back(VectorCrossAttention(cfg.dim, latent_dim, cfg.groups));
-        norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})));
-        ffn->push_back(make_mlp(cfg.dim, cfg.ffn_ratio * cfg.dim, cfg.dim));
-        ffn_norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})));
+    blocks = CrossAttentionBlocks(*this, cfg.n_layers, cfg.dim, latent_dim, cfg.groups, cfg.ffn_ratio);
+}
+
+CrossAttentionBlocks::CrossAttentionBlocks(torch::nn::Module &owner, int n_layers, int64_t dim, int64_t latent_dim,
+                                           int64_t groups, int64_t ffn_ratio) {
+    attention = owner.register_module("attention", torch::nn::ModuleList());
+    norms = owner.register_module("norms", torch::nn::ModuleList());
+    ffn = owner.register_module("ffn", torch::nn::ModuleList());
+    ffn_norms = owner.register_module("ffn_norms", torch::nn::ModuleList());
+    for (int l = 0; l < n_layers; ++l) {
+        attention->push_back(VectorCrossAttention(dim, latent_dim, groups));
+        norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({dim})));
+        ffn->push_back(make_mlp(dim, ffn_ratio * dim, dim));
+        ffn_norms->push_back(torch::nn::LayerNorm(torch::nn::LayerNormOptions({dim})));
     }
+}
+
+torch::Tensor CrossAttentionBlocks::forward(torch::Tensor h, const torch::Tensor &latents, const torch::Tensor &idx,
+                                            const torch::Tensor &pos) {
+    for (size_t l = 0; l < attention->size(); ++l) {
+        auto attn = attention[l]->as<VectorCrossAttentionImpl>();
+        const auto [keys, values] = attn->project_latents(latents);
+        h = h + attn->forward(norms[l]->as<torch::nn::LayerNormImpl>()->forward(h), keys, values, idx, pos);
+        h = h + ffn[l]->as<torch::nn::SequentialImpl>()->forward(ffn_norms[l]->as<torch::nn::LayerNormImpl>()->forward(h));
+    }
+    return h;
+}
+
+torch::Tensor anchor_offsets(const torch::Tensor &query, const torch::Tensor &anchors, const torch::Tensor &idx) {
+    const int64_t n = idx.size(0), kappa = idx.size(1);
+    return query.slice(1, 0, 3).unsqueeze(1) - anchors.index_select(0, idx.reshape(-1)).view({n, kappa, 3});
 }
 
 torch::Tensor QueryDecoderImpl::forward(const torch::Tensor &query, const torch::Tensor &latents,
@@ -82,17 +103,9 @@ torch::Tensor QueryDecoderImpl::forward(const torch::Tensor &query, const torch:
         h = h + ffn[0]->as<torch::nn::SequentialImpl>()->forward(torch::cat({h, lat}, 1));
         return torch::softplus(out->forward(h));
     }
-    // Δp = p_j − p_k, query minus neighbour (paper eq. 10).
-    const auto rel = query.slice(1, 0, 3).unsqueeze(1) - anchors.index_select(0, idx.reshape(-1)).view({n, kappa, 3});
-    const auto pos = pos_mlp->forward(rel);   // γ(Δp) [N, κ, D] (eq. 10), shared by the blocks
-    for (int l = 0; l < cfg.n_layers; ++l) {
-        auto attn = attention[size_t(l)]->as<VectorCrossAttentionImpl>();
-        const auto [keys, values] = attn->project_latents(latents);
-        h = h + attn->forward(norms[size_t(l)]->as<torch::nn::LayerNormImpl>()->forward(h), keys, values, idx, pos);
-        h = h + ffn[size_t(l)]->as<torch::nn::SequentialImpl>()->forward(
-                    ffn_norms[size_t(l)]->as<torch::nn::LayerNormImpl>()->forward(h));
-    }
-    return torch::softplus(out->forward(h));   // z = log1p(E⁺) >= 0  (eq. 14)
+    // Δp = p_j − p_k, query minus neighbour (paper eq. 10); γ(Δp) [N, κ, D] shared by the blocks.
+    const auto pos = pos_mlp->forward(anchor_offsets(query, anchors, idx));
+    return torch::softplus(out->forward(blocks.forward(h, latents, idx, pos)));   // z = log1p(E⁺) >= 0  (eq. 14)
 }
 
 }  // namespace ltm

@@ -15,6 +15,7 @@
 #include "ltm/eval/field_metrics.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
+#include "ltm/render/hemisphere_bins.h"
 #include "ltm/train/augment.h"
 
 namespace fs = std::filesystem;
@@ -44,7 +45,13 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .field("ckpt_every", &C::ckpt_every, "steps between last.ltmckpt writes", at_least(1))
             .field("keep_val_checkpoints", &C::keep_val_checkpoints, "also keep every validation step's weights as step-N.ltmckpt (scripts/select-by-views.sh)")
             .field("log_every", &C::log_every, "steps between log.jsonl lines", at_least(1))
-            .field("seed", &C::seed, "set by `--seed`; scenes, queries, augmentation and PTv3 shuffles are functions of (seed, step)");
+            .field("seed", &C::seed, "set by `--seed`; scenes, queries, augmentation and PTv3 shuffles are functions of (seed, step)")
+            .field("head", &C::head, "what is trained: the irradiance decoder or the directional head (L_in bins; note 5)", {}, {"irradiance", "directional"})
+            .omit_default()
+            .field("freeze", &C::freeze, "\"encoder\": embedding and PTv3 keep their weights (note 5)", {}, {"none", "encoder"})
+            .omit_default()
+            .field("bins_per_query", &C::bins_per_query, "head \"directional\": directions per query point; batch_queries counts pairs", at_least(1))
+            .omit_default();
     return f;
 }
 
@@ -89,11 +96,28 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
         LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (",
                   model_cfg.name, ") expects ", model_cfg.scene_points, " (dataset preset '",
                   first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")), "')");
+    if (cfg.head == "directional") {
+        if (!model_cfg.directional)
+            LTM_THROW("head \"directional\": model '", model_cfg.name, "' has no \"directional\" section");
+        if (first.bin_resolution != model_cfg.directional->bin_resolution)
+            LTM_THROW(m_train_paths.front(), ": ", first.bin_resolution ? "L_in over " + std::to_string(first.bin_resolution) + "² bins"
+                                                                          : std::string("no L_in bins"),
+                      ", the directional head expects ", model_cfg.directional->bin_resolution, "² (a glossy preset, e.g. configs/data/glossy.json)");
+    }
     torch::manual_seed(cfg.seed);
     m_model = LtmModel(model_cfg);
     m_model->to(device);
-    m_opt = std::make_unique<torch::optim::AdamW>(
-        m_model->parameters(), torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay));
+    // Frozen layers leave the optimizer (so not even weight decay moves them) and autograd.
+    if (cfg.freeze == "encoder") {
+        for (auto &p : m_model->embedding->parameters()) p.requires_grad_(false);
+        for (auto &p : m_model->encoder->parameters()) p.requires_grad_(false);
+    }
+    if (cfg.head == "directional" && cfg.freeze == "encoder")
+        for (auto &p : m_model->decoder->parameters()) p.requires_grad_(false);
+    std::vector<torch::Tensor> trained;
+    for (auto &p : m_model->parameters())
+        if (p.requires_grad()) trained.push_back(p);
+    m_opt = std::make_unique<torch::optim::AdamW>(trained, torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay));
     create_directories(out_dir);
 }
 
@@ -107,6 +131,11 @@ void Trainer::init_weights(const std::string &path) {
     std::map<std::string, torch::Tensor> tensors;
     for (const auto &p : w->named_parameters()) tensors[p.key()] = p.value();
     for (const auto &b : w->named_buffers()) tensors[b.key()] = b.value();
+    if (m_cfg.head == "directional" && !w->directional) {
+        // A new head on trained irradiance weights: it keeps its fresh (uniform-radiance) start.
+        for (const auto &p : m_model->directional->named_parameters()) tensors["directional." + p.key()] = p.value().detach().clone();
+        log_info(path, ": no directional head; the head starts fresh (uniform L_in = prior / π)");
+    }
     load_state(m_model, tensors, path);   // copy_ moves them to the training device
 }
 
@@ -126,6 +155,9 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
         c->scene_points = sp.to(m_device);
         c->query_points = point_tensor(r.query_points).to(m_device);
         c->target = rows_tensor(r.e_indirect, 3).to(m_device);
+        if (m_cfg.head == "directional" && r.bin_resolution != m_model_cfg.directional->bin_resolution)
+            LTM_THROW(path, ": ", r.bin_resolution ? "L_in over " + std::to_string(r.bin_resolution) + "² bins" : std::string("no L_in bins"),
+                      ", the directional head expects ", m_model_cfg.directional->bin_resolution, "²");
         if (r.emission_scale) {
             const Vec3f s = *r.emission_scale;
             c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
@@ -140,6 +172,7 @@ TrainStepLog Trainer::train_step() {
     const double lr = learning_rate(m_cfg, t);
     for (auto &group : m_opt->param_groups()) static_cast<torch::optim::AdamWOptions &>(group.options()).lr(lr);
     m_model->train();
+    if (m_cfg.freeze == "encoder") m_model->embedding->eval(), m_model->encoder->eval();
     m_opt->zero_grad();
     // Scene draw u = t·K + k (K scenes per step): every random choice is a function of (seed, u),
     // so K = 1 repeats the one-scene trainer exactly. Scenes follow a seeded permutation per epoch;
@@ -159,6 +192,14 @@ TrainStepLog Trainer::train_step() {
         CachedScene &sc = scene(perm[u % n]);
         const int64_t nq = sc.query_points.size(0);
         const int64_t share = m_cfg.batch_queries / K + (k < m_cfg.batch_queries % K ? 1 : 0);
+        if (m_cfg.head == "directional") {
+            const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, u}) % k_n_symmetries) : 0;
+            const auto l = directional_step_loss(sc, u, share, sym) / double(K);
+            const double v = l.item<double>();
+            if (!std::isfinite(v)) log.skipped = true;
+            else l.backward(), log.loss += v;
+            continue;
+        }
         Pcg32 q_rng(hash_keys({m_cfg.seed, 0x9e4e5ull, u}));
         std::vector<int64_t> pick(static_cast<size_t>(share));
         for (auto &p : pick) p = int64_t(q_rng.next_below(uint32_t(nq)));
@@ -276,8 +317,123 @@ OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
             {"val_unit_x10_error", (e10 - base).abs().mean().item<double>() / mean}};
 }
 
+SceneLatents Trainer::latents(CachedScene &sc, const torch::Tensor &scene_points, int sym) {
+    if (m_cfg.freeze != "encoder") return m_model->encode(scene_points, sc.geometry, sc.emission_scale);
+    // Frozen and in eval mode (no PTv3 order shuffles): a pure function of the scene and sym.
+    const auto it = sc.frozen_latents.find(sym);
+    if (it != sc.frozen_latents.end()) return it->second;
+    torch::NoGradGuard no_grad;
+    return sc.frozen_latents[sym] = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
+}
+
+namespace {
+// World direction of a point (u, v) of bin b's cell, in the tangent frame the bake used (Frame(n)).
+Vec3f bin_direction(Vec3f n, int b, int resolution, float u, float v) {
+    const Vec2f uv{(float(b / resolution) + u) / float(resolution), (float(b % resolution) + v) / float(resolution)};
+    return normalize(Frame(n).to_world(square_to_direction(uv)));
+}
+}  // namespace
+
+torch::Tensor Trainer::directional_step_loss(CachedScene &sc, uint64_t u, int64_t share, int sym) {
+    const SceneRecord &r = sc.record;
+    const int R = r.bin_resolution, nb = R * R;
+    const int64_t nq = int64_t(r.query_points.size());
+    // ⌈share / B⌉ query points, B directions each (the last point may get fewer): uniform bin,
+    // uniform inside it, so the head sees every direction, not only bin centres.
+    Pcg32 rng(hash_keys({m_cfg.seed, 0xd14ec7ull, u}));
+    std::vector<int64_t> rows(size_t(share), 0);
+    std::vector<float> dirs(size_t(share) * 3), target(size_t(share) * 3);
+    int64_t q = 0;
+    for (int64_t i = 0; i < share; ++i) {
+        if (i % m_cfg.bins_per_query == 0) q = int64_t(rng.next_below(uint32_t(nq)));
+        const int b = int(rng.next_below(uint32_t(nb)));
+        const float bu = rng.next_float(), bv = rng.next_float();
+        const Vec3f w = bin_direction(r.query_points.vec3(size_t(q), 3), b, R, bu, bv);
+        rows[size_t(i)] = q;
+        for (int c = 0; c < 3; ++c) {
+            dirs[size_t(i) * 3 + size_t(c)] = w[c];
+            target[size_t(i) * 3 + size_t(c)] = r.l_in[(size_t(q) * size_t(nb) + size_t(b)) * 3 + size_t(c)];
+        }
+    }
+    const auto idx = torch::tensor(rows, torch::kInt64).to(m_device);
+    auto direction = rows_tensor(dirs, 3).to(m_device);
+    if (sym != 0) direction = direction.mm(symmetry_matrix(sym).t().to(m_device));
+    const auto scene_points = apply_symmetry(sc.scene_points, sym);
+    const auto queries = apply_symmetry(sc.query_points.index_select(0, idx), sym);
+    m_model->encoder->reseed(hash_keys({m_cfg.seed, 0x0dde5ull, u}) >> 1);
+    const SceneLatents lat = latents(sc, scene_points, sym);
+    const auto z = m_model->decode_radiance(queries, direction, lat);
+    // In the head's ratio frame: L_in / (scale / π), scale the irradiance head's prior at the point.
+    const auto y = normalized_target(rows_tensor(target, 3).to(m_device), output_scale(queries, lat.norm) / k_pi);
+    return relative_l2_loss(torch::expm1(z), y, m_cfg.loss_eps);
+}
+
+double Trainer::validate_directional() {
+    torch::NoGradGuard no_grad;
+    m_model->eval();
+    double sum = 0, err = 0, err_uniform = 0, gap_model = 0, gap_ref = 0, level = 0;
+    const size_t W = size_t(m_comm->world_size()), r0 = size_t(m_comm->rank());
+    for (size_t i = r0; i < m_val_paths.size(); i += W) {
+        CachedScene &sc = scene(m_train_paths.size() + i);
+        const SceneRecord &r = sc.record;
+        const int R = r.bin_resolution, nb = R * R;
+        const int64_t nq = int64_t(r.query_points.size());
+        // Whole hemispheres (bin centres) of points spread over the record: the loss, the error
+        // against the bins, and ∫ L̂ cos dω = (π/R²) Σ_bins L̂ against E_direct + E⁺.
+        const int64_t n_pts = std::max<int64_t>(1, std::min<int64_t>(nq, m_cfg.val_queries / nb));
+        const auto pts = spread_rows(nq, n_pts, torch::kCPU);
+        std::vector<int64_t> rows;
+        std::vector<float> dirs, target, e_total;
+        for (int64_t j = 0; j < pts.size(0); ++j) {
+            const int64_t q = pts[j].item<int64_t>();
+            for (int b = 0; b < nb; ++b) {
+                const Vec3f w = bin_direction(r.query_points.vec3(size_t(q), 3), b, R, 0.5f, 0.5f);
+                rows.push_back(q);
+                for (int c = 0; c < 3; ++c)
+                    dirs.push_back(w[c]), target.push_back(r.l_in[(size_t(q) * size_t(nb) + size_t(b)) * 3 + size_t(c)]);
+            }
+            for (int c = 0; c < 3; ++c) e_total.push_back(r.e_direct[size_t(q) * 3 + size_t(c)] + r.e_indirect[size_t(q) * 3 + size_t(c)]);
+        }
+        const auto idx = torch::tensor(rows, torch::kInt64).to(m_device);
+        const auto queries = sc.query_points.index_select(0, idx);
+        const auto direction = rows_tensor(dirs, 3).to(m_device);
+        const SceneLatents lat = latents(sc, sc.scene_points, 0);
+        const auto z = m_model->decode_radiance(queries, direction, lat);
+        const auto scale = output_scale(queries, lat.norm);
+        const auto l_ref = rows_tensor(target, 3).to(m_device);
+        sum += relative_l2_loss(torch::expm1(z), normalized_target(l_ref, scale / k_pi), m_cfg.loss_eps).item<double>();
+        const auto l_hat = radiance_from_z(z, scale);
+        const int64_t np = pts.size(0);
+        // Floor: a uniform radiance whose cosine integral is the reference's E_direct + E⁺.
+        const auto e_ref = rows_tensor(e_total, 3).to(m_device);                     // [P, 3]
+        const auto uniform = (e_ref / k_pi).repeat_interleave(nb, 0);                  // [P·R², 3]
+        const double r2 = l_ref.pow(2).sum().item<double>() + 1e-30;
+        err += (l_hat - l_ref).pow(2).sum().item<double>() / r2;
+        err_uniform += (uniform - l_ref).pow(2).sum().item<double>() / r2;
+        const auto integral = l_hat.view({np, nb, 3}).sum(1) * (k_pi / double(nb));   // [P, 3]
+        const auto pts_dev = pts.to(m_device);
+        const auto e_model = rows_tensor(r.e_direct, 3).to(m_device).index_select(0, pts_dev) +
+                             m_model->predict_irradiance(sc.query_points.index_select(0, pts_dev), lat);
+        gap_model += (integral - e_model).abs().mean().item<double>() / (e_model.abs().mean().item<double>() + 1e-30);
+        gap_ref += (integral - e_ref).abs().mean().item<double>() / (e_ref.abs().mean().item<double>() + 1e-30);
+        level += integral.mean().item<double>() / (e_ref.mean().item<double>() + 1e-30);
+    }
+    if (W > 1) {
+        const std::vector<double> t = m_comm->all_reduce_sum({sum, err, err_uniform, gap_model, gap_ref, level});
+        sum = t[0], err = t[1], err_uniform = t[2], gap_model = t[3], gap_ref = t[4], level = t[5];
+    }
+    const double n = double(m_val_paths.size());
+    m_val_mse_log = NAN;
+    m_val_physics = {{"val_dir_rel_mse", err / n}, {"val_dir_rel_mse_uniform", err_uniform / n},
+                     {"val_hemisphere_gap_vs_model", gap_model / n}, {"val_hemisphere_gap_vs_ref", gap_ref / n},
+                     {"val_dir_level_ratio", level / n}};
+    m_model->train();
+    return sum / n;
+}
+
 double Trainer::validate() {
     if (m_val_paths.empty()) return NAN;
+    if (m_cfg.head == "directional") return validate_directional();
     torch::NoGradGuard no_grad;
     m_model->eval();
     double sum = 0, sum_mse = 0, chroma = 0, corr = 0, vs_flat = 0, log_level = 0;
@@ -388,10 +544,17 @@ void Trainer::run(bool resume, int64_t stop_at) {
             OrderedJson vj = {{"step", m_step - 1}, {"val_loss", v}, {"val_mse_log", m_val_mse_log}};
             vj.update(m_val_physics);
             log << vj.dump() << "\n" << std::flush;
-            log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, ", MSE/flat oracle ",
-                     m_val_physics.value("val_mse_vs_flat", NAN), ", level ratio ", m_val_physics.value("val_level_ratio_geomean", NAN),
-                     ", chroma error ", m_val_physics.value("val_chroma_error", NAN), " (", m_val_paths.size(), " held-out scenes)");
-            const double score = m_cfg.select_by == "val_mse_log"       ? m_val_mse_log
+            if (m_cfg.head == "directional")
+                log_info("step ", m_step, " validation loss ", v, ", L_in relative MSE ", m_val_physics.value("val_dir_rel_mse", NAN),
+                         " (uniform radiance ", m_val_physics.value("val_dir_rel_mse_uniform", NAN), "), hemisphere integral vs the irradiance head ",
+                         m_val_physics.value("val_hemisphere_gap_vs_model", NAN), ", vs the reference ", m_val_physics.value("val_hemisphere_gap_vs_ref", NAN),
+                         " (", m_val_paths.size(), " held-out scenes)");
+            else
+                log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, ", MSE/flat oracle ",
+                         m_val_physics.value("val_mse_vs_flat", NAN), ", level ratio ", m_val_physics.value("val_level_ratio_geomean", NAN),
+                         ", chroma error ", m_val_physics.value("val_chroma_error", NAN), " (", m_val_paths.size(), " held-out scenes)");
+            const double score = m_cfg.head == "directional"            ? v   // the head's own loss
+                                 : m_cfg.select_by == "val_mse_log"       ? m_val_mse_log
                                  : m_cfg.select_by == "val_mse_vs_flat" ? m_val_physics.value("val_mse_vs_flat", NAN)
                                                                         : v;
             if (std::isfinite(score) && score < m_best_val) {

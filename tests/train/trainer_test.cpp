@@ -8,6 +8,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
+#include "ltm/nn/checkpoint.h"
 #include "ltm/train/trainer.h"
 #include "small_dataset.h"
 #include "test_util.h"
@@ -243,4 +244,119 @@ TEST(Trainer, LevelL2WeightsDarkPointsAbsolutelyAndIsMinimisedByTheMean) {
     EXPECT_NEAR(gradient_at(mean), 0.0, 1e-6);
     EXPECT_LT(gradient_at(mean - 0.1f), 0.0);
     EXPECT_THROW(level_l2_loss(torch::ones({2, 2}), torch::ones({2, 2}), scale), c10::Error);
+}
+
+// ---- The directional head (issue #11 item 2) ----
+namespace {
+// Records with L_in over 4×4 bins (2 samples each): the ci preset, 64 queries.
+const std::string &binned_dir() {
+    static const std::string dir = [] {
+        const std::string d = std::filesystem::temp_directory_path() / ("ltm_trainer_bins_" + std::to_string(::getpid()));
+        BuildOptions opt;
+        opt.preset = DataPreset::from_file(test::source_path("configs/data/ci.json"));
+        opt.preset.query_points = 64, opt.preset.spp = 16, opt.preset.bin_resolution = 4, opt.preset.bin_spp = 2;
+        opt.seeds = {21, 22};
+        opt.out_dir = d;
+        set_log_level(LogLevel::quiet);
+        build_dataset(opt);
+        return d;
+    }();
+    static const test::RemoveAtExit cleanup{dir};
+    return dir;
+}
+ModelConfig tiny_with_head(int bin_resolution = 4) {
+    ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    DirectionalConfig d;
+    d.dim = 16, d.groups = 4, d.n_layers = 1, d.direction_frequencies = 3, d.bin_resolution = bin_resolution;
+    mc.directional = d;
+    return mc;
+}
+TrainConfig directional_train(int steps) {
+    TrainConfig t = small_train(steps);
+    t.head = "directional", t.freeze = "encoder";
+    t.batch_queries = 256, t.bins_per_query = 8, t.lr = 1e-2f;
+    return t;
+}
+}  // namespace
+
+// `--freeze encoder --head directional`: only the head's parameters change (the embedding, PTv3
+// and the irradiance decoder keep their bits), the head's do, and validation reports the L_in
+// error, its uniform-radiance floor and the hemisphere integral against both E's.
+TEST(Trainer, FrozenEncoderTrainsOnlyTheDirectionalHead) {
+    test::TempDir dir;
+    const ModelConfig mc = tiny_with_head();
+    const TrainConfig t = directional_train(3);
+    torch::manual_seed(t.seed);
+    LtmModel fresh(mc);   // the trainer's initial weights (same seed)
+    Trainer trainer(mc, t, {binned_dir()}, dir.path("run"));
+    trainer.run(false);
+    const auto before = fresh->named_parameters();
+    int changed = 0, head = 0;
+    for (const auto &p : trainer.model()->named_parameters()) {
+        const bool same = torch::equal(p.value(), before[p.key()]);
+        if (p.key().rfind("directional.", 0) == 0) ++head, changed += !same;
+        else EXPECT_TRUE(same) << p.key() << " changed";
+    }
+    EXPECT_GT(head, 0);
+    EXPECT_GT(changed, head / 2) << "the head's parameters did not train";
+    EXPECT_TRUE(std::isfinite(trainer.validate()));
+    const OrderedJson &v = trainer.val_physics();
+    for (const char *key : {"val_dir_rel_mse", "val_dir_rel_mse_uniform", "val_hemisphere_gap_vs_model", "val_hemisphere_gap_vs_ref"})
+        EXPECT_TRUE(v.contains(key) && std::isfinite(v[key].get<double>())) << key;
+}
+
+// --init with irradiance-only weights: they load (the head starts uniform); a resume is exact.
+TEST(Trainer, DirectionalHeadStartsFromIrradianceWeightsAndResumesExactly) {
+    test::TempDir dir;
+    ModelConfig plain = tiny_with_head();
+    plain.directional.reset();
+    torch::manual_seed(5);
+    LtmModel irr(plain);
+    save_weights(dir.path("irr.safetensors"), irr);
+    const ModelConfig mc = tiny_with_head();
+    Trainer full(mc, directional_train(4), {binned_dir()}, dir.path("full"));
+    full.init_weights(dir.path("irr.safetensors"));
+    EXPECT_TRUE(torch::equal(full.model()->decoder->out[3]->as<torch::nn::LinearImpl>()->weight,
+                             irr->decoder->out[3]->as<torch::nn::LinearImpl>()->weight));
+    full.run(false);
+    Trainer first(mc, directional_train(4), {binned_dir()}, dir.path("split"));
+    first.init_weights(dir.path("irr.safetensors"));
+    first.run(false, 2);
+    Trainer second(mc, directional_train(4), {binned_dir()}, dir.path("split"));
+    second.run(true);
+    ASSERT_EQ(first.history().size() + second.history().size(), 4u);
+    for (size_t i = 0; i < 4; ++i)
+        EXPECT_EQ(full.history()[i].loss, i < 2 ? first.history()[i].loss : second.history()[i - 2].loss) << i;
+}
+
+// The head's data must hold L_in at its resolution: errors name the file and both resolutions.
+TEST(Trainer, DirectionalHeadNeedsBinsOfItsResolution) {
+    test::TempDir dir;
+    auto expect_error = [&](const ModelConfig &mc, const std::string &data, const std::string &what) {
+        try {
+            Trainer(mc, directional_train(1), {data}, dir.path("run"));
+            ADD_FAILURE() << "no error for " << what;
+        } catch (const Error &e) {
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    };
+    expect_error(tiny_with_head(), dataset_dir(), "no L_in bins");
+    expect_error(tiny_with_head(8), binned_dir(), "expects 8²");
+    ModelConfig plain = tiny_with_head();
+    plain.directional.reset();
+    expect_error(plain, binned_dir(), "no \"directional\" section");
+}
+
+// The head learns: on one scene's bins the training loss falls well below its start.
+TEST(Trainer, DirectionalHeadLearnsTheBinsOfItsScenes) {
+    test::TempDir dir;
+    TrainConfig t = directional_train(120);
+    t.warmup_steps = 5, t.lr = 3e-3f, t.augment = false, t.val_fraction = 0.f;
+    Trainer trainer(tiny_with_head(), t, {binned_dir()}, dir.path("run"));
+    trainer.run(false);
+    const auto &h = trainer.history();
+    double first = 0, last = 0;
+    for (int i = 0; i < 10; ++i) first += h[size_t(i)].loss / 10, last += h[h.size() - 1 - size_t(i)].loss / 10;
+    EXPECT_LT(last, 0.7 * first) << "first " << first << " last " << last;
+    std::cout << "directional head: loss " << first << " -> " << last << "\n";
 }

@@ -8,6 +8,7 @@
 
 #include <torch/torch.h>
 
+#include "ltm/nn/directional_decoder.h"
 #include "ltm/nn/model_config.h"
 #include "ltm/nn/nn_embedding.h"
 #include "ltm/nn/ptv3.h"
@@ -85,12 +86,20 @@ struct LtmModelImpl : torch::nn::Module {
     /// the libtorch path prefers ~1024 (its [chunk, κ, D] temporaries then stay in cache).
     torch::Tensor predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
                                      int64_t chunk = 16384, PredictTimings *timings = nullptr);
+    /// The directional head (cfg.directional): z at (query, direction) pairs, kNN among the
+    /// anchors computed here. Throws ltm::Error when the model has no directional head.
+    ///   query_points [N, 9] raw, direction [N, 3] unit (world frame) -> z [N, 3] >= 0
+    torch::Tensor decode_radiance(const torch::Tensor &query_points, const torch::Tensor &direction, const SceneLatents &latents);
+    /// Inference in chunks (no autograd): L_in = output_scale / π · expm1(z).   [N, 9], [N, 3] -> [N, 3]
+    torch::Tensor predict_radiance(const torch::Tensor &query_points, const torch::Tensor &direction,
+                                   const SceneLatents &latents, int64_t chunk = 16384);
     int64_t n_parameters() const;
 
     ModelConfig cfg;
     NNEmbedding embedding{nullptr};
     PTv3 encoder{nullptr};
     QueryDecoder decoder{nullptr};
+    DirectionalDecoder directional{nullptr};   ///< null unless cfg.directional
     bool fused_inference = true;   ///< predict_irradiance on CPU uses FusedDecoder (false: libtorch modules)
 };
 TORCH_MODULE(LtmModel);
@@ -99,6 +108,8 @@ TORCH_MODULE(LtmModel);
 /// "transport" prior its value at each query, floored at 10⁻³ · norm.output (a query that faces
 /// no anchor keeps a finite frame).   query_points [N, 9] raw -> [3] or [N, 3]
 torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormalization &norm);
+/// L_in from the directional head's output: scale / π · expm1(z).   z [N, 3], scale [3] or [N, 3] -> [N, 3]
+torch::Tensor radiance_from_z(const torch::Tensor &z, const torch::Tensor &scale);
 /// E⁺ from the decoder's output: scale · expm1(z).   z [N, 3], scale [3] or [N, 3] -> [N, 3]
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale);
 /// Targets in the decoder's output frame: y / scale (0 where the scale is 0).

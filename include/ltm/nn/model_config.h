@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 #include "ltm/core/config_fields.h"
@@ -37,6 +38,29 @@ struct DecoderConfig {
     bool absolute_position = true;
     /// The JSON keys (core/config_fields.h).
     static const ConfigFields<DecoderConfig> &fields();
+};
+
+/// The directional radiance head (paper §7, issue #11): the same κ anchors' latents and a
+/// direction ω in the query's hemisphere -> incident radiance L_in(p, ω) ≥ 0, RGB, in the frame of
+/// the irradiance head: L_in = (scale / π) · expm1(z), scale the irradiance head's output scale at
+/// the query (its prior), so a zeroed output layer predicts the uniform radiance whose cosine
+/// integral is that prior. Trained with the encoder frozen (`ltm train --head directional`).
+struct DirectionalConfig {
+    int dim = 64;                    ///< D of query features and attention values
+    int n_layers = 2;                ///< stacked cross-attention blocks
+    int groups = 8;                  ///< G weight groups of grouped vector attention; divides dim
+    int ffn_ratio = 4;               ///< hidden width of each block's FFN = ffn_ratio · dim
+    /// F octaves of the direction's Fourier features sin/cos(2^k π ω), k < F (plus ω and n·ω):
+    /// a 32×32-bin lobe is ~1/32 of the hemisphere wide, so F ≈ 5 resolves it.
+    int direction_frequencies = 5;
+    /// R of the R×R hemisphere bins the head is trained on and renders/guides with (paper: 32);
+    /// records of another R are refused.
+    int bin_resolution = 32;
+    /// The JSON keys (core/config_fields.h).
+    static const ConfigFields<DirectionalConfig> &fields();
+    /// Width of the head's input: the query's 9 columns (position zeroed when translation
+    /// invariant) + ω, n·ω and the 6F Fourier features.
+    int input_width() const { return 9 + 4 + 6 * direction_frequencies; }
 };
 
 /// Exact physical normalisations (docs/config.md, the `physics.*` keys). Light transport is
@@ -88,6 +112,8 @@ struct ModelConfig {
     PTv3Config encoder;             ///< in_channels is forced to embedding.dim
     DecoderConfig decoder;
     PhysicsConfig physics;          ///< absent from a JSON config: PhysicsConfig::legacy() (v0.3)
+    /// The directional radiance head; absent (no "directional" object) in irradiance-only models.
+    std::optional<DirectionalConfig> directional;
 
     /// The top-level keys (name, scene_points); the sections have their own fields().
     static const ConfigFields<ModelConfig> &fields();

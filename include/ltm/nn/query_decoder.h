@@ -29,6 +29,20 @@ struct VectorCrossAttentionImpl : torch::nn::Module {
 };
 TORCH_MODULE(VectorCrossAttention);
 
+/// The residual blocks both decoder heads stack (pre-norm): h += Attn(LN h); h += FFN(LN h).
+/// Registered on the owning module as "attention", "norms", "ffn", "ffn_norms" (weight names).
+struct CrossAttentionBlocks {
+    torch::nn::ModuleList attention{nullptr}, norms{nullptr}, ffn{nullptr}, ffn_norms{nullptr};
+    CrossAttentionBlocks() = default;
+    CrossAttentionBlocks(torch::nn::Module &owner, int n_layers, int64_t dim, int64_t latent_dim, int64_t groups, int64_t ffn_ratio);
+    //   h [N, D], latents [m, C], idx [N, κ], pos [N, κ, D] (= γ(Δp))  ->  [N, D]
+    torch::Tensor forward(torch::Tensor h, const torch::Tensor &latents, const torch::Tensor &idx, const torch::Tensor &pos);
+};
+
+/// Δp = p_query − p_anchor of each query's κ anchors (paper eq. 10).
+///   query [N, ≥3] (position first), anchors [m, 3], idx [N, κ] -> [N, κ, 3]
+torch::Tensor anchor_offsets(const torch::Tensor &query, const torch::Tensor &anchors, const torch::Tensor &idx);
+
 struct QueryDecoderImpl : torch::nn::Module {
     QueryDecoderImpl(const DecoderConfig &cfg, int64_t latent_dim);
     //   query [N, 9] (normalised p, n, albedo), latents [m, C], anchors [m, 3], idx [N, κ]  ->  z [N, 3]
@@ -41,7 +55,8 @@ struct QueryDecoderImpl : torch::nn::Module {
     void start_at_prior();
     torch::nn::Sequential embed{nullptr}, out{nullptr};            // 𝓗 (eq. 9) and 𝓦_out (eq. 14)
     torch::nn::Sequential pos_mlp{nullptr};                        // γ(Δp) (eq. 10): Linear → ReLU → Linear
-    torch::nn::ModuleList attention{nullptr}, norms{nullptr}, ffn{nullptr}, ffn_norms{nullptr};
+    CrossAttentionBlocks blocks;                                   // attention decoder only
+    torch::nn::ModuleList ffn{nullptr};                            // knn-mean ablation's one FFN
     torch::nn::Linear latent_proj{nullptr};                       // knn-mean ablation only
 };
 TORCH_MODULE(QueryDecoder);

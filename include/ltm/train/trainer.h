@@ -58,6 +58,16 @@ struct TrainConfig {
     /// (scripts/select-by-views.sh).
     bool keep_val_checkpoints = false;
     int log_every = 10;           ///< steps between JSONL log lines
+    /// What is trained: "irradiance" (E⁺, the decoder) or "directional" (L_in over hemisphere bins,
+    /// the model's directional head; records must hold L_in at the head's bin resolution).
+    std::string head = "irradiance";
+    /// "encoder": the NN embedding and PTv3 keep their weights (and run in eval mode: no order
+    /// shuffles, so a scene's latents are computed once per symmetry and cached); with
+    /// head "directional" the irradiance decoder is frozen too — only the head's parameters change.
+    std::string freeze = "none";
+    /// head "directional": directions drawn per query point (uniform bin, uniform inside the bin);
+    /// batch_queries counts (point, direction) pairs.
+    int bins_per_query = 16;
     uint64_t seed = 0;            ///< everything random is a function of (seed, step)
 
     /// The keys, limits and docs of the fields above (core/config_fields.h; docs/config.md).
@@ -96,6 +106,8 @@ public:
             const std::vector<std::string> &val_dirs = {});
     /// Starts from exported weights (fine-tuning; the optimizer starts fresh). Every tensor of the
     /// model must be in the weights with its shape; the configs may differ where no tensor does.
+    /// With head "directional", weights without a directional head are accepted: the head keeps
+    /// its fresh initialisation (a uniform L_in = prior / π).
     void init_weights(const std::string &weights_path);
     /// Data-parallel training (train/distributed.h): each of the W ranks draws the same scenes
     /// u = t·K + k as one process would but runs only k in its block [rank·K/W, (rank+1)·K/W);
@@ -123,7 +135,15 @@ private:
         SceneGeometry geometry;
         torch::Tensor scene_points, query_points, target;   // device tensors
         torch::Tensor emission_scale;                       // [3] S = Φ/A, undefined for older records
+        std::map<int, SceneLatents> frozen_latents;        // freeze "encoder": latents per symmetry
     };
+    /// The scene's latents under symmetry sym (cached when the encoder is frozen).
+    SceneLatents latents(CachedScene &sc, const torch::Tensor &scene_points, int sym);
+    /// The directional head's loss on `share` (point, direction) pairs of scene draw u.
+    torch::Tensor directional_step_loss(CachedScene &sc, uint64_t u, int64_t share, int sym);
+    /// Validation of the directional head (loss, relative MSE, uniform-radiance floor, the
+    /// hemisphere integral against the irradiance head); returns the mean loss.
+    double validate_directional();
     CachedScene &scene(size_t index);
     TrainStepLog train_step();
     bool is_root() const { return m_comm->is_root(); }

@@ -1,0 +1,147 @@
+// directional_head_test.cpp: the directional radiance head (issue #11 item 2): its config, its
+// uniform start (L_in = prior / π, whose cosine integral is the prior), the exact symmetries it
+// inherits from the irradiance head's frame, its weights, and its errors.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "ltm/core/error.h"
+#include "ltm/nn/checkpoint.h"
+#include "ltm/nn/ltm_model.h"
+#include "test_util.h"
+#include "tiny_scene_fixture.h"
+
+using namespace ltm;
+
+namespace {
+struct Fixture : test::TinySceneFixture {
+    Fixture() : TinySceneFixture(64) {
+        DirectionalConfig d;
+        d.dim = 16, d.groups = 4, d.n_layers = 1, d.direction_frequencies = 3, d.bin_resolution = 4;
+        cfg.directional = d;
+    }
+    // Directions in each query's hemisphere: n tilted towards a fixed vector, normalised.
+    torch::Tensor directions(double tilt) const {
+        const auto n = qp.slice(1, 3, 6);
+        const auto t = torch::tensor({0.3f, -0.5f, 0.8f}).expand_as(n);
+        const auto d = n + tilt * (t - (t * n).sum(1, true) * n);
+        return d / d.norm(2, 1, true);
+    }
+};
+
+LtmModel random_head(const ModelConfig &cfg, uint64_t seed) {
+    torch::manual_seed(seed);
+    LtmModel m(cfg);
+    torch::NoGradGuard g;
+    for (auto &p : m->directional->parameters()) p.normal_(0.0, 0.5);
+    m->eval();
+    return m;
+}
+
+torch::Tensor radiance(LtmModel &m, const torch::Tensor &sp, const torch::Tensor &qp, const torch::Tensor &d) {
+    return m->predict_radiance(qp, d, m->encode(sp, m->scene_geometry(sp)));
+}
+
+torch::Tensor scaled(const torch::Tensor &t, int64_t c0, int64_t c1, double k) {
+    auto out = t.clone();
+    out.slice(1, c0, c1).mul_(k);
+    return out;
+}
+}  // namespace
+
+TEST(DirectionalHead, ConfigRoundTripsAndIsChecked) {
+    Fixture f;
+    const ModelConfig back = ModelConfig::from_json(f.cfg.to_json(), "t");
+    ASSERT_TRUE(back.directional.has_value());
+    EXPECT_EQ(back.directional->bin_resolution, 4);
+    EXPECT_EQ(back.to_json().dump(), f.cfg.to_json().dump());
+    // Irradiance-only configs keep their exact JSON (no "directional" key): old weights still load.
+    ModelConfig plain = f.cfg;
+    plain.directional.reset();
+    EXPECT_FALSE(plain.to_json().contains("directional"));
+    Json j = f.cfg.to_json();
+    j["directional"]["groups"] = 5;
+    EXPECT_THROW(ModelConfig::from_json(j, "t"), Error);
+    j["directional"]["groups"] = 4;
+    j["directional"]["bins"] = 32;   // unknown key
+    EXPECT_THROW(ModelConfig::from_json(j, "t"), Error);
+}
+
+// A fresh head predicts the uniform radiance whose cosine integral is the irradiance head's
+// prior: L_in = output_scale / π in every direction.
+TEST(DirectionalHead, StartsAsTheUniformRadianceOfThePrior) {
+    Fixture f;
+    torch::manual_seed(1);
+    LtmModel m(f.cfg);
+    m->eval();
+    const SceneLatents lat = m->encode(f.sp, m->scene_geometry(f.sp));
+    const auto scale = output_scale(f.qp, lat.norm).expand({f.qp.size(0), 3});
+    for (double tilt : {0.0, 0.7, 3.0}) {
+        const auto l = m->predict_radiance(f.qp, f.directions(tilt), lat);
+        EXPECT_TRUE(torch::allclose(l * k_pi, scale, 1e-5, 1e-7)) << tilt;
+    }
+}
+
+// The head lives in the irradiance head's frame, so it inherits its exact symmetries: L_in is
+// linear in emission (bit-exact for powers of two) and independent of the unit of length.
+TEST(DirectionalHead, LinearInEmissionAndBlindToTheUnitOfLength) {
+    Fixture f;
+    LtmModel m = random_head(f.cfg, 7);
+    const auto d = f.directions(0.6);
+    const auto l = radiance(m, f.sp, f.qp, d);
+    ASSERT_GT(l.abs().mean().item<double>(), 0.0);
+    ASSERT_GT((l - l.mean(0)).abs().mean().item<double>(), 1e-3 * l.abs().mean().item<double>());   // not uniform
+    for (double k : {0.25, 4.0}) EXPECT_TRUE(torch::equal(radiance(m, scaled(f.sp, 9, 12, k), f.qp, d), l * k)) << k;
+    for (double s : {0.5, 2.0, 1024.0}) EXPECT_TRUE(torch::equal(radiance(m, scaled(f.sp, 0, 3, s), scaled(f.qp, 0, 3, s), d), l)) << s;
+}
+
+TEST(DirectionalHead, WeightsRoundTripAndIrradianceWeightsStillLoad) {
+    Fixture f;
+    test::TempDir dir;
+    LtmModel m = random_head(f.cfg, 9);
+    save_weights(dir.path("w.safetensors"), m);
+    LtmModel back = load_weights(dir.path("w.safetensors"));
+    ASSERT_TRUE(back->directional);
+    const auto d = f.directions(0.3);
+    EXPECT_TRUE(torch::equal(radiance(back, f.sp, f.qp, d), radiance(m, f.sp, f.qp, d)));
+    // Irradiance-only weights: the same E⁺, no head, and asking for L_in is a one-line error.
+    ModelConfig plain = f.cfg;
+    plain.directional.reset();
+    torch::manual_seed(9);
+    LtmModel p(plain);
+    save_weights(dir.path("p.safetensors"), p);
+    LtmModel pb = load_weights(dir.path("p.safetensors"));
+    EXPECT_FALSE(pb->directional);
+    try {
+        radiance(pb, f.sp, f.qp, d);
+        ADD_FAILURE() << "no error";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("no directional head"), std::string::npos) << e.what();
+    }
+}
+
+// Directions must be unit vectors in the query's hemisphere: anything else is an error, never NaN.
+TEST(DirectionalHead, DirectionsBelowTheSurfaceOrNotUnitAreErrors) {
+    Fixture f;
+    LtmModel m = random_head(f.cfg, 11);
+    const SceneLatents lat = m->encode(f.sp, m->scene_geometry(f.sp));
+    const auto n = f.qp.slice(1, 3, 6);
+    auto expect_error = [&](const torch::Tensor &d, const std::string &what) {
+        try {
+            m->predict_radiance(f.qp, d, lat);
+            ADD_FAILURE() << "no error for " << what;
+        } catch (const Error &e) {
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    };
+    expect_error(-n, "below the surface");
+    expect_error(n * 2.0, "not a unit vector");
+    auto nan = n.clone();
+    nan[3][1] = NAN;
+    expect_error(nan, "NaN");
+    EXPECT_THROW(m->predict_radiance(f.qp, n.slice(0, 0, 5), lat), std::exception);   // wrong shape
+    // Grazing directions (n·ω = 0) are in the hemisphere: finite.
+    const auto grazing = f.directions(1e4);
+    EXPECT_TRUE(torch::isfinite(m->predict_radiance(f.qp, grazing, lat)).all().item<bool>());
+}
