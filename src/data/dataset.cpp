@@ -44,6 +44,8 @@ const ConfigFields<DataPreset> &DataPreset::fields() {
                    between(0, 256))
             .omit_default()
             .field("bin_spp", &P::bin_spp, "samples per bin (paper: 64)", between(1, 1 << 20))
+            .omit_default()
+            .field("bin_radiance", &P::bin_radiance, "what the bins hold: emission + scattered light (the paper's L_in), or only scattered light (L_in⁺, integrates to E⁺)", {}, {"incident", "indirect"})
             .omit_default();
     return f;
 }
@@ -95,6 +97,7 @@ SceneRecord make_record(const DataPreset &p, const GenConfig &gen, uint64_t seed
     bs.bins = p.bin_resolution > 0;
     bs.bin_resolution = p.bin_resolution;
     bs.bin_spp = p.bin_spp;
+    bs.bins_indirect = p.bin_radiance == "indirect";
     bs.progress = false;   // per-scene bake bars would drown the dataset bar
     PathTracerConfig pc;
     pc.seed = seed;

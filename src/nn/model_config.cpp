@@ -39,7 +39,8 @@ const ConfigFields<DirectionalConfig> &DirectionalConfig::fields() {
             .field("groups", &C::groups, "G weight groups of grouped vector attention; divides dim", at_least(1))
             .field("ffn_ratio", &C::ffn_ratio, "hidden width of each block's FFN = ffn_ratio · dim", between(1, 64))
             .field("direction_frequencies", &C::direction_frequencies, "F octaves of the direction's Fourier features sin/cos(2^k π ω)", between(0, 12))
-            .field("bin_resolution", &C::bin_resolution, "R of the R×R hemisphere bins it is trained on and renders/guides with (paper: 32)", between(1, 256));
+            .field("bin_resolution", &C::bin_resolution, "R of the R×R hemisphere bins it is trained on and renders/guides with (paper: 32)", between(1, 256))
+            .field("radiance", &C::radiance, "what it predicts: L_in⁺ (scattered light only; direct light stays exact) or the paper's L_in (emitters included)", {}, {"indirect", "incident"});
     return f;
 }
 

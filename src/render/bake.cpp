@@ -58,7 +58,7 @@ BakedPoints bake_points(const PathTracer &pt, const PointSet &query, int64_t beg
             out.direct[size_t(i)] = e.direct;
             out.indirect[size_t(i)] = e.indirect;
             if (s.bins) {
-                const auto b = pt.incident_radiance_bins(p, nrm, uint64_t(k), s.bin_resolution, s.bin_spp);
+                const auto b = pt.incident_radiance_bins(p, nrm, uint64_t(k), s.bin_resolution, s.bin_spp, !s.bins_indirect);
                 std::copy(b.begin(), b.end(), out.bins.begin() + i * nb);
             }
         }

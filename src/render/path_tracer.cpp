@@ -148,7 +148,7 @@ IrradianceEstimate PathTracer::irradiance(Vec3f p, Vec3f n, uint64_t point_index
 }
 
 std::vector<Vec3f> PathTracer::incident_radiance_bins(Vec3f p, Vec3f n, uint64_t point_index, int resolution,
-                                                      int samples_per_bin) const {
+                                                      int samples_per_bin, bool with_emission) const {
     if (resolution <= 0 || samples_per_bin <= 0)
         LTM_THROW("path tracer: bin resolution and samples per bin must be > 0");
     const Frame frame(n);
@@ -165,7 +165,7 @@ std::vector<Vec3f> PathTracer::incident_radiance_bins(Vec3f p, Vec3f n, uint64_t
             const auto hit = m_accel.intersect(ray);
             if (!hit) continue;
             const SurfaceInteraction y = make_interaction(m_scene, ray, *hit);
-            sum += y.emitted() + reflected_radiance(y, -wi, m_cfg.max_depth, rng);
+            sum += (with_emission ? y.emitted() : Vec3f(0.f)) + reflected_radiance(y, -wi, m_cfg.max_depth, rng);
         }
         bins[size_t(b)] = sum / float(samples_per_bin);
     }

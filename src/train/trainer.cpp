@@ -71,6 +71,16 @@ double learning_rate(const TrainConfig &c, int64_t step) {
     return lo + (double(c.lr) - lo) * 0.5 * (1.0 + std::cos(3.14159265358979323846 * std::min(1.0, t)));
 }
 
+namespace {
+// The head predicts what its records hold (DirectionalConfig::radiance vs DataPreset::bin_radiance).
+void check_bin_radiance(const SceneRecord &r, const ModelConfig &mc) {
+    const std::string held = r.metadata.value("preset", OrderedJson::object()).value("bin_radiance", std::string("incident"));
+    if (held != mc.directional->radiance)
+        LTM_THROW(r.path, ": bins hold \"", held, "\" radiance, the directional head predicts \"", mc.directional->radiance,
+                  "\" (data preset bin_radiance / model directional.radiance)");
+}
+}  // namespace
+
 Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::vector<std::string> &data_dirs,
                  const std::string &out_dir, torch::Device device, const std::vector<std::string> &val_dirs)
     : m_model_cfg(model_cfg), m_cfg(cfg), m_out(out_dir), m_device(device) {
@@ -103,6 +113,7 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
             LTM_THROW(m_train_paths.front(), ": ", first.bin_resolution ? "L_in over " + std::to_string(first.bin_resolution) + "² bins"
                                                                           : std::string("no L_in bins"),
                       ", the directional head expects ", model_cfg.directional->bin_resolution, "² (a glossy preset, e.g. configs/data/glossy.json)");
+        check_bin_radiance(first, model_cfg);
     }
     torch::manual_seed(cfg.seed);
     m_model = LtmModel(model_cfg);
@@ -158,6 +169,7 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
         if (m_cfg.head == "directional" && r.bin_resolution != m_model_cfg.directional->bin_resolution)
             LTM_THROW(path, ": ", r.bin_resolution ? "L_in over " + std::to_string(r.bin_resolution) + "² bins" : std::string("no L_in bins"),
                       ", the directional head expects ", m_model_cfg.directional->bin_resolution, "²");
+        if (m_cfg.head == "directional") check_bin_radiance(r, m_model_cfg);
         if (r.emission_scale) {
             const Vec3f s = *r.emission_scale;
             c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
@@ -378,6 +390,7 @@ double Trainer::validate_directional() {
         const SceneRecord &r = sc.record;
         const int R = r.bin_resolution, nb = R * R;
         const int64_t nq = int64_t(r.query_points.size());
+        const bool indirect = m_model_cfg.directional->radiance == "indirect";   // ∫ L⁺ cos = E⁺; ∫ L cos = E_d + E⁺
         // Whole hemispheres (bin centres) of points spread over the record: the loss, the error
         // against the bins, and ∫ L̂ cos dω = (π/R²) Σ_bins L̂ against E_direct + E⁺.
         const int64_t n_pts = std::max<int64_t>(1, std::min<int64_t>(nq, m_cfg.val_queries / nb));
@@ -392,7 +405,8 @@ double Trainer::validate_directional() {
                 for (int c = 0; c < 3; ++c)
                     dirs.push_back(w[c]), target.push_back(r.l_in[(size_t(q) * size_t(nb) + size_t(b)) * 3 + size_t(c)]);
             }
-            for (int c = 0; c < 3; ++c) e_total.push_back(r.e_direct[size_t(q) * 3 + size_t(c)] + r.e_indirect[size_t(q) * 3 + size_t(c)]);
+            for (int c = 0; c < 3; ++c)
+                e_total.push_back((indirect ? 0.f : r.e_direct[size_t(q) * 3 + size_t(c)]) + r.e_indirect[size_t(q) * 3 + size_t(c)]);
         }
         const auto idx = torch::tensor(rows, torch::kInt64).to(m_device);
         const auto queries = sc.query_points.index_select(0, idx);
@@ -412,8 +426,8 @@ double Trainer::validate_directional() {
         err_uniform += (uniform - l_ref).pow(2).sum().item<double>() / r2;
         const auto integral = l_hat.view({np, nb, 3}).sum(1) * (k_pi / double(nb));   // [P, 3]
         const auto pts_dev = pts.to(m_device);
-        const auto e_model = rows_tensor(r.e_direct, 3).to(m_device).index_select(0, pts_dev) +
-                             m_model->predict_irradiance(sc.query_points.index_select(0, pts_dev), lat);
+        auto e_model = m_model->predict_irradiance(sc.query_points.index_select(0, pts_dev), lat);
+        if (!indirect) e_model = e_model + rows_tensor(r.e_direct, 3).to(m_device).index_select(0, pts_dev);
         gap_model += (integral - e_model).abs().mean().item<double>() / (e_model.abs().mean().item<double>() + 1e-30);
         gap_ref += (integral - e_ref).abs().mean().item<double>() / (e_ref.abs().mean().item<double>() + 1e-30);
         level += integral.mean().item<double>() / (e_ref.mean().item<double>() + 1e-30);

@@ -122,6 +122,20 @@ TEST(Dataset, GlossyRecordsHoldBinsThatIntegrateToTheIrradiance) {
             irradiance += double(r.e_direct[q * 3 + size_t(c)]) + double(r.e_indirect[q * 3 + size_t(c)]);
         }
     EXPECT_NEAR(from_bins, irradiance, 0.05 * irradiance);
+    // bin_radiance "indirect": the bins hold L_in⁺ (scattered light only), whose cosine sum is E⁺.
+    opt.preset.bin_radiance = "indirect";
+    opt.out_dir = dir.path("indirect");
+    build_dataset(opt);
+    const SceneRecord ri = read_record(list_records(opt.out_dir)[0]);
+    EXPECT_EQ(ri.metadata["preset"]["bin_radiance"], "indirect");
+    double from_bins_i = 0, e_plus = 0;
+    for (size_t q = 0; q < 24; ++q)
+        for (int c = 0; c < 3; ++c) {
+            for (int b = 0; b < 64; ++b) from_bins_i += double(ri.l_in[(q * 64 + size_t(b)) * 3 + size_t(c)]) * k_pi / 64.0;
+            e_plus += double(ri.e_indirect[q * 3 + size_t(c)]);
+        }
+    EXPECT_NEAR(from_bins_i, e_plus, 0.05 * e_plus);
+    EXPECT_LT(from_bins_i, 0.9 * from_bins) << "the emitters' direct light should be gone";
     // Without bins the key is not written (older presets keep their exact JSON).
     EXPECT_FALSE(small_preset().to_json().contains("bin_resolution"));
     // A non-square bin count is a located error.

@@ -241,6 +241,8 @@ TEST(HemisphereBins, QuadLightCoversItsBinsExactly) {
     };
     const double f = 4 * corner(a / h, b / h);
     EXPECT_NEAR(sum, k_pi * le * f, 0.01 * k_pi * le * f) << "view factor " << f;
+    // L_in⁺ (no emitter seen directly): nothing else in the scene scatters, so every bin is 0.
+    for (const Vec3f &l : pt.incident_radiance_bins(p, n, 0, res, 4, /*with_emission=*/false)) EXPECT_EQ(l, Vec3f(0.f));
 }
 
 TEST(HemisphereBins, MappingIsInvertible) {

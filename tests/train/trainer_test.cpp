@@ -255,6 +255,7 @@ const std::string &binned_dir() {
         BuildOptions opt;
         opt.preset = DataPreset::from_file(test::source_path("configs/data/ci.json"));
         opt.preset.query_points = 64, opt.preset.spp = 16, opt.preset.bin_resolution = 4, opt.preset.bin_spp = 2;
+        opt.preset.bin_radiance = "indirect";   // what the head predicts by default
         opt.seeds = {21, 22};
         opt.out_dir = d;
         set_log_level(LogLevel::quiet);
@@ -342,6 +343,9 @@ TEST(Trainer, DirectionalHeadNeedsBinsOfItsResolution) {
     };
     expect_error(tiny_with_head(), dataset_dir(), "no L_in bins");
     expect_error(tiny_with_head(8), binned_dir(), "expects 8²");
+    ModelConfig incident = tiny_with_head();
+    incident.directional->radiance = "incident";
+    expect_error(incident, binned_dir(), "bins hold \"indirect\" radiance");
     ModelConfig plain = tiny_with_head();
     plain.directional.reset();
     expect_error(plain, binned_dir(), "no \"directional\" section");

@@ -32,6 +32,10 @@ struct DataPreset {
     /// query point (render/hemisphere_bins.h), R = bin_resolution; 0 = none (irradiance only).
     int bin_resolution = 0;
     int bin_spp = 64;             ///< samples per bin (paper: 64)
+    /// What the bins hold: "incident" (emission + scattered light: the paper's L_in) or
+    /// "indirect" (L_in⁺, light scattered at least once: what the directional head predicts
+    /// beside exact direct lighting; its cosine integral is E⁺).
+    std::string bin_radiance = "incident";
 
     /// The keys, limits and docs of the fields above (core/config_fields.h; docs/config.md).
     static const ConfigFields<DataPreset> &fields();

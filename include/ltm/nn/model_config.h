@@ -56,6 +56,10 @@ struct DirectionalConfig {
     /// R of the R×R hemisphere bins the head is trained on and renders/guides with (paper: 32);
     /// records of another R are refused.
     int bin_resolution = 32;
+    /// What it predicts: "indirect" L_in⁺ (light scattered at least once; direct light is exact
+    /// in the renderer, as for diffuse surfaces; ∫ L_in⁺ cos dω = E⁺) or "incident" L_in (the
+    /// paper's, emitters included). Training records must hold the same (data preset bin_radiance).
+    std::string radiance = "indirect";
     /// The JSON keys (core/config_fields.h).
     static const ConfigFields<DirectionalConfig> &fields();
     /// Width of the head's input: the query's 9 columns (position zeroed when translation

@@ -21,6 +21,7 @@ struct BakeSettings {
     bool bins = false;         ///< also bake L_in over resolution² hemisphere bins
     int bin_resolution = 32;   ///< paper: 32×32
     int bin_spp = 64;          ///< samples per bin (paper: 64)
+    bool bins_indirect = false;   ///< bins hold L_i⁺ (no emitter seen directly; integrates to E⁺)
     bool progress = true;      ///< a progress bar (off inside `ltm dataset build`, which has its own)
 };
 

@@ -41,9 +41,11 @@ public:
 
     /// Incident radiance L_i (emission + scattered, up to max_depth scattering events) averaged
     /// over each of the resolution² bins of hemisphere_bins.h, samples_per_bin stratified samples
-    /// each. Returns [resolution², 3] row-major (bin i·R + j).
+    /// each. Returns [resolution², 3] row-major (bin i·R + j). with_emission false: L_i⁺, only
+    /// the light scattered at least once (no emitter seen directly), whose cosine integral
+    /// (π/R²) Σ L̄ is the indirect irradiance E⁺.
     std::vector<Vec3f> incident_radiance_bins(Vec3f p, Vec3f n, uint64_t point_index, int resolution,
-                                              int samples_per_bin) const;
+                                              int samples_per_bin, bool with_emission = true) const;
 
     /// One stratum of irradiance(): sample s of n_samples, random stream `key`.
     /// with_indirect = false skips the path continuation (E⁺ = 0): the same E_direct estimator, for
