@@ -21,7 +21,7 @@ std::vector<Command> commands() {
                                   make_bake_command(), make_render_command(), make_info_command(),
                                   make_edit_command(), make_convert_command(), make_dataset_command()};
 #ifdef LTM_WITH_TORCH
-    for (auto make : {make_train_command, make_export_command, make_eval_command}) table.push_back(make());
+    for (auto make : {make_train_command, make_export_command, make_eval_command, make_eval_directional_command}) table.push_back(make());
 #endif
     return table;
 }

@@ -60,6 +60,7 @@ Command make_dataset_command();
 Command make_train_command();   // this and the two below need libtorch (LTM_WITH_TORCH)
 Command make_export_command();
 Command make_eval_command();
+Command make_eval_directional_command();
 
 /// The scene's camera by name, else its first, else an automatic one; resized if width/height > 0.
 Camera choose_camera(const Scene &scene, const std::string &name, int width, int height, const std::string &where);

@@ -40,8 +40,7 @@ Command make_export_command() {
                 const TrainState st = read_checkpoint_state(a.input);
                 const ModelConfig mc = ModelConfig::from_json(parse_json(st.model_config, a.input), a.input);
                 model = LtmModel(mc);
-                torch::optim::AdamW opt(model->parameters());
-                load_checkpoint(a.input, model, opt);
+                load_checkpoint_model(a.input, model);
                 meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
             }
             if (!a.note.empty()) meta["note"] = a.note;

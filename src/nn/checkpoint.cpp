@@ -135,17 +135,29 @@ TrainState read_checkpoint_state(const std::string &path) {
     return s;
 }
 
-void load_checkpoint(const std::string &path, LtmModel &model, torch::optim::Optimizer &opt) {
-    auto archive = open_checkpoint(path);
-    torch::serialize::InputArchive model_archive, opt_archive;
+namespace {
+void load_model_archive(const std::string &path, torch::serialize::InputArchive &archive, LtmModel &model) {
+    torch::serialize::InputArchive model_archive;
     archive.read("model", model_archive);
-    archive.read("optimizer", opt_archive);
     try {
         model->load(model_archive);
     } catch (const std::exception &e) {
         LTM_THROW(path, ": checkpoint does not fit this model (", std::string(e.what()).substr(0, 160), ")");
     }
+}
+}  // namespace
+
+void load_checkpoint(const std::string &path, LtmModel &model, torch::optim::Optimizer &opt) {
+    auto archive = open_checkpoint(path);
+    load_model_archive(path, archive, model);
+    torch::serialize::InputArchive opt_archive;
+    archive.read("optimizer", opt_archive);
     opt.load(opt_archive);
+}
+
+void load_checkpoint_model(const std::string &path, LtmModel &model) {
+    auto archive = open_checkpoint(path);
+    load_model_archive(path, archive, model);
 }
 
 }  // namespace ltm

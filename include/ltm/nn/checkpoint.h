@@ -40,5 +40,8 @@ void save_checkpoint(const std::string &path, LtmModel &model, torch::optim::Opt
 TrainState read_checkpoint_state(const std::string &path);
 /// Restores model + optimizer; the model must have been built from state.model_config.
 void load_checkpoint(const std::string &path, LtmModel &model, torch::optim::Optimizer &opt);
+/// Restores the model only (export): the optimizer's state is not read, so a run that trained a
+/// subset of the parameters (`freeze`) exports like any other.
+void load_checkpoint_model(const std::string &path, LtmModel &model);
 
 }  // namespace ltm

@@ -1,0 +1,159 @@
+// directional_eval.cpp: one encode per record, the head's bins of its points in one batch.
+#include "ltm/eval/directional_eval.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "ltm/core/error.h"
+#include "ltm/core/log.h"
+#include "ltm/nn/point_tensor.h"
+#include "ltm/points/scene_record.h"
+#include "ltm/render/hemisphere_bins.h"
+#include "ltm/render/spherical_harmonics.h"
+
+namespace ltm {
+
+namespace {
+double sq_err(const Vec3f *a, const Vec3f *b, size_t n) {
+    double e = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) e += double(a[i][c] - b[i][c]) * double(a[i][c] - b[i][c]);
+    return e;
+}
+}  // namespace
+
+DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &data_dir, const DirectionalEvalOptions &opt) {
+    if (!model->directional) LTM_THROW("model '", model->cfg.name, "' has no directional head (train one: ltm train --head directional)");
+    if (opt.points_per_record < 1 || opt.l_max < 0) LTM_THROW("directional eval: need points >= 1 and l_max >= 0");
+    const DirectionalConfig &dc = *model->cfg.directional;
+    const auto paths = list_records(data_dir);
+    if (paths.empty()) LTM_THROW(data_dir, ": no dataset records (scene-*.safetensors)");
+    torch::NoGradGuard no_grad;
+    model->eval();
+    const int R = dc.bin_resolution, nb = R * R;
+    const BinShFit sh(R, opt.l_max);
+    const bool indirect = dc.radiance == "indirect";
+    DirectionalEvalResult res;
+    res.resolution = R, res.radiance = dc.radiance;
+    res.sh.assign(size_t(opt.l_max + 1), 0.0);
+    res.head_beats_sh.assign(size_t(opt.l_max + 1), 0);
+    double ref2 = 0, gap_m = 0, gap_r = 0, e_model_sum = 0, e_ref_sum = 0, seconds = 0;
+    std::vector<std::vector<Vec3f>> tile_rows;   // per tiled point: ref, head, SH 2, SH l_max
+    for (const std::string &path : paths) {
+        const SceneRecord r = read_record(path);
+        const std::string held = r.metadata.value("preset", OrderedJson::object()).value("bin_radiance", std::string("incident"));
+        if (r.bin_resolution != R)
+            LTM_THROW(path, ": ", r.bin_resolution ? "L_in over " + std::to_string(r.bin_resolution) + "² bins" : std::string("no L_in bins"),
+                      ", the directional head has ", R, "²");
+        if (held != dc.radiance) LTM_THROW(path, ": bins hold \"", held, "\" radiance, the head predicts \"", dc.radiance, "\"");
+        const int64_t nq = int64_t(r.query_points.size()), np = std::min<int64_t>(nq, opt.points_per_record);
+        std::vector<int64_t> pts;
+        for (int64_t j = 0; j < np; ++j) pts.push_back(j * nq / np);
+        // Queries repeated per bin, directions at bin centres in the bake's frame Frame(n).
+        std::vector<float> qrows, dirs;
+        for (int64_t q : pts)
+            for (int b = 0; b < nb; ++b) {
+                for (int c = 0; c < 9; ++c) qrows.push_back(r.query_points.at(size_t(q), size_t(c)));
+                const Vec2f uv{(float(b / R) + 0.5f) / float(R), (float(b % R) + 0.5f) / float(R)};
+                const Vec3f w = normalize(Frame(r.query_points.vec3(size_t(q), 3)).to_world(square_to_direction(uv)));
+                dirs.insert(dirs.end(), {w.x, w.y, w.z});
+            }
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto sp = point_tensor(r.scene_points);
+        torch::Tensor es;
+        if (r.emission_scale) es = torch::tensor({r.emission_scale->x, r.emission_scale->y, r.emission_scale->z});
+        const SceneLatents lat = model->encode(sp, model->scene_geometry(sp), es);
+        const auto pred = model->predict_radiance(rows_tensor(qrows, 9), rows_tensor(dirs, 3), lat).contiguous();
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::vector<float> qp;
+        for (int64_t q : pts)
+            for (int c = 0; c < 9; ++c) qp.push_back(r.query_points.at(size_t(q), size_t(c)));
+        const auto e_hat = model->predict_irradiance(rows_tensor(qp, 9), lat).contiguous();
+        const Vec3f *head = reinterpret_cast<const Vec3f *>(pred.data_ptr<float>());
+        for (int64_t j = 0; j < np; ++j) {
+            const size_t q = size_t(pts[size_t(j)]);
+            const std::vector<Vec3f> ref(reinterpret_cast<const Vec3f *>(r.l_in.data()) + q * size_t(nb),
+                                         reinterpret_cast<const Vec3f *>(r.l_in.data()) + (q + 1) * size_t(nb));
+            const Vec3f *h = head + size_t(j) * size_t(nb);
+            Vec3f e_ref(0.f), e_model(0.f), integral(0.f);
+            for (int c = 0; c < 3; ++c) {
+                e_ref[c] = r.e_indirect[q * 3 + size_t(c)] + (indirect ? 0.f : r.e_direct[q * 3 + size_t(c)]);
+                e_model[c] = e_hat.data_ptr<float>()[j * 3 + c] + (indirect ? 0.f : r.e_direct[q * 3 + size_t(c)]);
+            }
+            for (int b = 0; b < nb; ++b) integral += h[b] * (float(k_pi) / float(nb));
+            const std::vector<Vec3f> uniform(size_t(nb), e_ref / float(k_pi));
+            ref2 += sq_err(ref.data(), std::vector<Vec3f>(size_t(nb), Vec3f(0.f)).data(), size_t(nb));
+            const double eh = sq_err(h, ref.data(), size_t(nb));
+            res.head += eh;
+            res.uniform += sq_err(uniform.data(), ref.data(), size_t(nb));
+            std::vector<std::vector<Vec3f>> fits;
+            for (int l = 0; l <= opt.l_max; ++l) {
+                fits.push_back(sh.fit(ref, l));
+                const double es_l = sq_err(fits.back().data(), ref.data(), size_t(nb));
+                res.sh[size_t(l)] += es_l;
+                res.head_beats_sh[size_t(l)] += eh < es_l;
+            }
+            for (int c = 0; c < 3; ++c) {
+                gap_m += std::abs(double(integral[c] - e_model[c])), gap_r += std::abs(double(integral[c] - e_ref[c]));
+                e_model_sum += std::abs(double(e_model[c])), e_ref_sum += std::abs(double(e_ref[c]));
+            }
+            if (int(tile_rows.size()) < opt.tiles * 4) {
+                tile_rows.push_back(ref);
+                tile_rows.emplace_back(h, h + nb);
+                tile_rows.push_back(fits[size_t(std::min(2, opt.l_max))]);
+                tile_rows.push_back(fits.back());
+            }
+            ++res.points;
+        }
+        ++res.records;
+        log_info(path, ": ", np, " hemispheres");
+    }
+    const double norm = ref2 > 0 ? ref2 : 1.0;
+    res.head /= norm, res.uniform /= norm;
+    for (double &e : res.sh) e /= norm;
+    res.hemisphere_gap_vs_model = gap_m / std::max(e_model_sum, 1e-30);
+    res.hemisphere_gap_vs_ref = gap_r / std::max(e_ref_sum, 1e-30);
+    res.seconds_per_point = seconds / std::max(1, res.points);
+    // Tiles: one row per point, each tile R×R upscaled ×4, exposure per row from the reference's mean.
+    const int n_rows = int(tile_rows.size()) / 4, px = 4, gap = 2;
+    if (n_rows > 0) {
+        res.tiles = Image(4 * (R * px + gap) - gap, n_rows * (R * px + gap) - gap);
+        for (int row = 0; row < n_rows; ++row) {
+            double mean = 0;
+            for (const Vec3f &v : tile_rows[size_t(row * 4)]) mean += double(v.x + v.y + v.z) / (3.0 * nb);
+            const float exposure = mean > 0 ? float(0.35 / mean) : 1.f;
+            for (int t = 0; t < 4; ++t)
+                for (int b = 0; b < nb; ++b)
+                    for (int dy = 0; dy < px; ++dy)
+                        for (int dx = 0; dx < px; ++dx) {
+                            const Vec3f v = tile_rows[size_t(row * 4 + t)][size_t(b)] * exposure;
+                            res.tiles.at(t * (R * px + gap) + (b % R) * px + dx, row * (R * px + gap) + (b / R) * px + dy) =
+                                Vec3f(std::max(v.x, 0.f), std::max(v.y, 0.f), std::max(v.z, 0.f));
+                        }
+        }
+    }
+    return res;
+}
+
+OrderedJson DirectionalEvalResult::to_json() const {
+    OrderedJson j = {{"records", records}, {"points", points}, {"bin_resolution", resolution}, {"radiance", radiance},
+                     {"head_rel_mse", head}, {"uniform_rel_mse", uniform}, {"sh_rel_mse", sh}, {"head_beats_sh_points", head_beats_sh},
+                     {"hemisphere_gap_vs_model", hemisphere_gap_vs_model}, {"hemisphere_gap_vs_ref", hemisphere_gap_vs_ref},
+                     {"seconds_per_point", seconds_per_point}};
+    return j;
+}
+
+std::string DirectionalEvalResult::markdown() const {
+    std::ostringstream s;
+    s << "| method | relative MSE of " << (radiance == "indirect" ? "L_in⁺" : "L_in") << " bins | points where the head is closer |\n"
+      << "|---|---|---|\n";
+    s << "| directional head (predicted) | " << head << " | |\n";
+    s << "| uniform radiance, reference's ∫ L cos (floor) | " << uniform << " | |\n";
+    for (size_t l = 0; l < sh.size(); ++l)
+        s << "| SH best fit to the reference, l ≤ " << l << " (" << (l + 1) * (l + 1) << " coefficients) | " << sh[l] << " | "
+          << head_beats_sh[l] << " of " << points << " |\n";
+    return s.str();
+}
+
+}  // namespace ltm
