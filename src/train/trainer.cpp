@@ -107,6 +107,7 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
                   model_cfg.name, ") expects ", model_cfg.scene_points, " (dataset preset '",
                   first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")), "')");
     if (cfg.head == "directional") {
+        if (cfg.loss == "log-relative-l2") LTM_THROW("head \"directional\": loss \"log-relative-l2\" is for E⁺ only (use relative-l2 or level-l2)");
         if (!model_cfg.directional)
             LTM_THROW("head \"directional\": model '", model_cfg.name, "' has no \"directional\" section");
         if (first.bin_resolution != model_cfg.directional->bin_resolution)
@@ -286,6 +287,13 @@ torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target,
     return relative_l2_loss(torch::expm1(z), y, m_cfg.loss_eps);
 }
 
+torch::Tensor Trainer::directional_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale) const {
+    // level-l2 weighs each pair by its absolute light up to the batch's level (what a rendered
+    // glossy reflection shows); relative-l2 by its own prediction.
+    if (m_cfg.loss == "level-l2") return level_l2_loss(pred, target, scale);
+    return relative_l2_loss(pred, target, m_cfg.loss_eps);
+}
+
 torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale) {
     TORCH_CHECK(pred.sizes() == target.sizes() && pred.dim() == 2 && pred.size(1) == 3, "loss: prediction ", pred.sizes(),
                 " and target ", target.sizes(), " must be the same [N, 3]");
@@ -376,8 +384,8 @@ torch::Tensor Trainer::directional_step_loss(CachedScene &sc, uint64_t u, int64_
     const SceneLatents lat = latents(sc, scene_points, sym);
     const auto z = m_model->decode_radiance(queries, direction, lat);
     // In the head's ratio frame: L_in / (scale / π), scale the irradiance head's prior at the point.
-    const auto y = normalized_target(rows_tensor(target, 3).to(m_device), output_scale(queries, lat.norm) / k_pi);
-    return relative_l2_loss(torch::expm1(z), y, m_cfg.loss_eps);
+    const auto scale = output_scale(queries, lat.norm) / k_pi;
+    return directional_loss(torch::expm1(z), normalized_target(rows_tensor(target, 3).to(m_device), scale), scale);
 }
 
 double Trainer::validate_directional() {
@@ -415,7 +423,7 @@ double Trainer::validate_directional() {
         const auto z = m_model->decode_radiance(queries, direction, lat);
         const auto scale = output_scale(queries, lat.norm);
         const auto l_ref = rows_tensor(target, 3).to(m_device);
-        sum += relative_l2_loss(torch::expm1(z), normalized_target(l_ref, scale / k_pi), m_cfg.loss_eps).item<double>();
+        sum += directional_loss(torch::expm1(z), normalized_target(l_ref, scale / k_pi), scale / k_pi).item<double>();
         const auto l_hat = radiance_from_z(z, scale);
         const int64_t np = pts.size(0);
         // Floor: a uniform radiance whose cosine integral is the reference's E_direct + E⁺.

@@ -152,6 +152,9 @@ private:
     /// The configured loss in the model's output frame.   z [N, 3], target E⁺ [N, 3] -> scalar
     ///   z [N, 3], target [N, 3], scale [3] or [N, 3] (output_scale of the queries) -> scalar
     torch::Tensor loss(const torch::Tensor &z, const torch::Tensor &target, const torch::Tensor &scale) const;
+    /// The directional head's loss in its ratio frame (relative-l2 or level-l2).
+    ///   pred, target [N, 3] (ratios to scale), scale [3] or [N, 3] (prior / π) -> scalar
+    torch::Tensor directional_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale) const;
     /// Emission ×4 and lengths ×10 on one held-out scene: the exact invariances, measured.
     OrderedJson invariance_errors(CachedScene &sc, int64_t n_queries);
     ModelConfig m_model_cfg;
