@@ -1,4 +1,4 @@
-// cmd_render.cpp: `ltm render <scene> --method pathtrace|neural -o out` → out.exr, out.png,
+// cmd_render.cpp: `ltm render <scene> --method pathtrace|neural|guided -o out` → out.exr, out.png,
 // out.irradiance.png (+ out.timings.json for neural).
 #include <memory>
 
@@ -10,14 +10,18 @@
 #include "ltm/eval/metrics.h"
 #include "ltm/render/image_renderer.h"
 #include "ltm/scene/scene_loader.h"
+#if LTM_WITH_TORCH
+#include "ltm/infer/guide_builder.h"
+#include "ltm/infer/neural_renderer.h"
+#endif
 
 namespace ltm::cli {
 
 namespace {
 struct RenderArgs {
     std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto";
-    int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1;
-    float exposure = 1.f;
+    int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024;
+    float exposure = 1.f, guide_alpha = 0.25f;
 };
 
 std::string strip_image_extension(std::string p) {
@@ -32,10 +36,17 @@ Command make_render_command() {
         "render", "Render an image: path-traced reference or the neural model (EXR with AOVs + PNGs)",
         [](CLI::App &sub, RenderArgs &a, CommonOptions &) {
             sub.add_option("scene", a.scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
-            sub.add_option("--method", a.method, "pathtrace | neural")->capture_default_str()->check(
-                CLI::IsMember({"pathtrace", "neural"}));
-            sub.add_option("--model", a.model, "Weights for --method neural (models/ltm-cpu.safetensors)");
-            sub.add_option("--spp", a.spp, "Samples per pixel (pathtrace)")->capture_default_str();
+            sub.add_option("--method", a.method, "pathtrace | neural | guided (path tracing guided by the model's directional head)")
+                ->capture_default_str()
+                ->check(CLI::IsMember({"pathtrace", "neural", "guided"}));
+            sub.add_option("--model", a.model, "Weights for --method neural (models/ltm-cpu.safetensors) or guided (with a directional head)");
+            sub.add_option("--spp", a.spp, "Samples per pixel (pathtrace, guided)")->capture_default_str();
+            sub.add_option("--guide-points", a.guide_points, "Surface points whose L_in bins the head predicts (guided)")
+                ->capture_default_str()
+                ->check(CLI::Range(9, 1 << 20));
+            sub.add_option("--guide-alpha", a.guide_alpha, "BSDF share α of the defensive mixture α·BSDF + (1−α)·guide (guided)")
+                ->capture_default_str()
+                ->check(CLI::Range(0.001, 1.0));
             sub.add_option("--direct-spp", a.direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
                 ->capture_default_str();
             sub.add_option("--direct-estimator", a.direct_estimator,
@@ -70,7 +81,11 @@ Command make_render_command() {
                 LTM_THROW("--method neural: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
     #endif
             }
-            if (!a.model.empty()) LTM_THROW("--model is only used with --method neural");
+            if (a.method == "guided" && a.model.empty()) LTM_THROW("--method guided needs --model <weights with a directional head>");
+    #if !LTM_WITH_TORCH
+            if (a.method == "guided") LTM_THROW("--method guided: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
+    #endif
+            if (!a.model.empty() && a.method != "guided") LTM_THROW("--model is only used with --method neural or guided");
             if (a.gi_stride != 1) LTM_THROW("--gi-stride is only used with --method neural");
             if (a.direct_estimator != "auto") LTM_THROW("--direct-estimator is only used with --method neural");
             if (a.spp <= 0) LTM_THROW("--spp ", a.spp, ": must be > 0");
@@ -82,8 +97,22 @@ Command make_render_command() {
             PathTracerConfig cfg;
             cfg.seed = common.seed;
             cfg.max_depth = a.max_depth;
-            const PathTracer pt(accel, cfg);
+            PathTracer pt(accel, cfg);
+            double guide_seconds = 0;
+    #if LTM_WITH_TORCH
+            GuideBuild guide;
+            if (a.method == "guided") {
+                LoadedModel m = load_model(a.model);
+                GuideBuildOptions go;
+                go.points = a.guide_points, go.seed = common.seed;
+                guide = build_guide_cache(m.model, accel, go);
+                guide_seconds = guide.seconds;
+                pt.set_guide(&guide.cache, a.guide_alpha);
+            }
+    #endif
             const RenderedImage img = render_pathtraced(pt, cam, a.spp);
+            if (a.method == "guided")
+                log_info("guided: ", format_duration(guide_seconds), " to predict the guide + ", format_duration(img.seconds), " to render");
             write_rendered_image(img, prefix, a.exposure);
             write_png(prefix + ".irradiance.png", img.irradiance, tonemap_scale(img.irradiance));
             log_info("rendered ", cam.width, "x", cam.height, " at ", a.spp, " spp in ", format_duration(img.seconds), " (",

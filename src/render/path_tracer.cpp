@@ -40,8 +40,14 @@ Vec2f stratified(int s, int n, Pcg32 &rng) {
 }  // namespace
 
 // NEE at si: one light sample, weighted against BSDF sampling (power heuristic).
+void PathTracer::set_guide(const GuideCache *guide, float alpha) {
+    if (guide && !(alpha > 0.f && alpha <= 1.f)) LTM_THROW("path guiding: the BSDF share α = ", alpha, " must be in (0, 1]");
+    m_guide = guide && !guide->empty() ? guide : nullptr;
+    m_guide_alpha = alpha;
+}
+
 Vec3f PathTracer::light_sample_contribution(const SurfaceInteraction &si, const Frame &frame, Vec3f wo_local,
-                                            const Bsdf &bsdf, Pcg32 &rng) const {
+                                            const Bsdf &bsdf, const GuidedSampler &sampler, Pcg32 &rng) const {
     if (m_lights.empty()) return Vec3f(0.f);
     const float u0 = rng.next_float();
     const Vec2f u12{rng.next_float(), rng.next_float()};
@@ -57,7 +63,7 @@ Vec3f PathTracer::light_sample_contribution(const SurfaceInteraction &si, const 
     if (max_component(f) <= 0.f) return Vec3f(0.f);
     if (m_accel.occluded(shadow_ray(si.p, frame.n, ls.p))) return Vec3f(0.f);
     const float pdf_l = LightSampler::to_solid_angle(ls.pdf_area, d2, cos_light);
-    const float w = power_heuristic(pdf_l, bsdf.pdf(wo_local, wi_local));
+    const float w = power_heuristic(pdf_l, sampler.pdf(wo_local, wi_local));
     return ls.radiance * f * (wi_local.z * w / pdf_l);
 }
 
@@ -70,8 +76,23 @@ Vec3f PathTracer::reflected_radiance(const SurfaceInteraction &si0, Vec3f wo_wor
         const Frame frame(si.front ? si.n : -si.n);
         const Vec3f wo_local = frame.to_local(wo);
         const Bsdf bsdf = si.bsdf();
-        L += beta * light_sample_contribution(si, frame, wo_local, bsdf, rng);
-        const BsdfSample bs = bsdf.sample(wo_local, {rng.next_float(), rng.next_float()});
+        // The vertex's sampler: BSDF alone, or the defensive mixture with the nearest cached guide.
+        GuidedSampler sampler{&bsdf, nullptr, m_guide_alpha};
+        BinDistribution product;
+        if (m_guide) {
+            if (const int c = m_guide->lookup(si.p, frame.n); c >= 0) {
+                if (bsdf.kind == BsdfKind::diffuse) {
+                    sampler.guide = &m_guide->diffuse(c);
+                } else {
+                    const int r = m_guide->resolution();
+                    product = BinDistribution(r, product_weights({m_guide->radiance(c), m_guide->radiance(c) + r * r}, r, bsdf, wo_local));
+                    sampler.guide = &product;
+                }
+            }
+        }
+        L += beta * light_sample_contribution(si, frame, wo_local, bsdf, sampler, rng);
+        const float u_pick = m_guide ? rng.next_float() : 0.f;   // drawn only when guiding: unguided streams unchanged
+        const BsdfSample bs = sampler.sample(wo_local, u_pick, {rng.next_float(), rng.next_float()});
         if (bs.pdf <= 0.f || max_component(bs.weight) <= 0.f) break;
         beta = beta * bs.weight;
         const Vec3f wi = frame.to_world(bs.wi);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ltm/render/embree_accel.h"
+#include "ltm/render/guide_cache.h"
 #include "ltm/render/interaction.h"
 #include "ltm/render/light_sampler.h"
 
@@ -60,15 +61,23 @@ public:
     /// Stream key for (point or pixel index, sample index).
     uint64_t stream_key(uint64_t index, uint64_t sample) const;
     const PathTracerConfig &config() const { return m_cfg; }
+    /// Path guiding (render/guide_cache.h): at every vertex of reflected_radiance() with a cache
+    /// point nearby, the next direction comes from α·BSDF + (1 − α)·guide (product with the BSDF
+    /// for conductors), with the mixture's exact pdf in the MIS weights: unbiased. The first
+    /// bounce of irradiance_sample() keeps its stratified cosine sample (it also serves the MIS of
+    /// direct light). Null: plain BSDF sampling, bit-identical to a tracer without a guide.
+    void set_guide(const GuideCache *guide, float alpha = 0.25f);
     const EmbreeAccel &accel() const { return m_accel; }
 
 private:
     Vec3f light_sample_contribution(const SurfaceInteraction &si, const Frame &frame, Vec3f wo_local,
-                                    const Bsdf &bsdf, Pcg32 &rng) const;
+                                    const Bsdf &bsdf, const GuidedSampler &sampler, Pcg32 &rng) const;
     const EmbreeAccel &m_accel;
     const Scene &m_scene;
     PathTracerConfig m_cfg;
     LightSampler m_lights;
+    const GuideCache *m_guide = nullptr;
+    float m_guide_alpha = 0.25f;
 };
 
 /// Power heuristic (β = 2) for combining two strategies with pdfs a (taken) and b (other).
