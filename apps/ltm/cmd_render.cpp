@@ -20,7 +20,7 @@ namespace ltm::cli {
 namespace {
 struct RenderArgs {
     std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto";
-    int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024;
+    int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024, guide_resolution = 16;
     float exposure = 1.f, guide_alpha = 0.25f;
 };
 
@@ -44,6 +44,9 @@ Command make_render_command() {
             sub.add_option("--guide-points", a.guide_points, "Surface points whose L_in bins the head predicts (guided)")
                 ->capture_default_str()
                 ->check(CLI::Range(9, 1 << 20));
+            sub.add_option("--guide-resolution", a.guide_resolution, "R of the guide's R×R bins, predicted at their centres (guided)")
+                ->capture_default_str()
+                ->check(CLI::Range(1, 256));
             sub.add_option("--guide-alpha", a.guide_alpha, "BSDF share α of the defensive mixture α·BSDF + (1−α)·guide (guided)")
                 ->capture_default_str()
                 ->check(CLI::Range(0.001, 1.0));
@@ -104,7 +107,7 @@ Command make_render_command() {
             if (a.method == "guided") {
                 LoadedModel m = load_model(a.model);
                 GuideBuildOptions go;
-                go.points = a.guide_points, go.seed = common.seed;
+                go.points = a.guide_points, go.resolution = a.guide_resolution, go.seed = common.seed;
                 guide = build_guide_cache(m.model, accel, go);
                 guide_seconds = guide.seconds;
                 pt.set_guide(&guide.cache, a.guide_alpha);

@@ -82,11 +82,12 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
                 e_model[c] = e_hat.data_ptr<float>()[j * 3 + c] + (indirect ? 0.f : r.e_direct[q * 3 + size_t(c)]);
             }
             for (int b = 0; b < nb; ++b) integral += h[b] * (float(k_pi) / float(nb));
-            const std::vector<Vec3f> uniform(size_t(nb), e_ref / float(k_pi));
+            const std::vector<Vec3f> uniform(size_t(nb), e_ref / float(k_pi)), uniform_model(size_t(nb), e_model / float(k_pi));
             ref2 += sq_err(ref.data(), std::vector<Vec3f>(size_t(nb), Vec3f(0.f)).data(), size_t(nb));
             const double eh = sq_err(h, ref.data(), size_t(nb));
             res.head += eh;
             res.uniform += sq_err(uniform.data(), ref.data(), size_t(nb));
+            res.uniform_model += sq_err(uniform_model.data(), ref.data(), size_t(nb));
             std::vector<std::vector<Vec3f>> fits;
             for (int l = 0; l <= opt.l_max; ++l) {
                 fits.push_back(sh.fit(ref, l));
@@ -110,7 +111,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
         log_info(path, ": ", np, " hemispheres");
     }
     const double norm = ref2 > 0 ? ref2 : 1.0;
-    res.head /= norm, res.uniform /= norm;
+    res.head /= norm, res.uniform /= norm, res.uniform_model /= norm;
     for (double &e : res.sh) e /= norm;
     res.hemisphere_gap_vs_model = gap_m / std::max(e_model_sum, 1e-30);
     res.hemisphere_gap_vs_ref = gap_r / std::max(e_ref_sum, 1e-30);
@@ -138,7 +139,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
 
 OrderedJson DirectionalEvalResult::to_json() const {
     OrderedJson j = {{"records", records}, {"points", points}, {"bin_resolution", resolution}, {"radiance", radiance},
-                     {"head_rel_mse", head}, {"uniform_rel_mse", uniform}, {"sh_rel_mse", sh}, {"head_beats_sh_points", head_beats_sh},
+                     {"head_rel_mse", head}, {"uniform_rel_mse", uniform}, {"uniform_model_rel_mse", uniform_model}, {"sh_rel_mse", sh}, {"head_beats_sh_points", head_beats_sh},
                      {"hemisphere_gap_vs_model", hemisphere_gap_vs_model}, {"hemisphere_gap_vs_ref", hemisphere_gap_vs_ref},
                      {"seconds_per_point", seconds_per_point}};
     return j;
@@ -149,7 +150,8 @@ std::string DirectionalEvalResult::markdown() const {
     s << "| method | relative MSE of " << (radiance == "indirect" ? "L_in⁺" : "L_in") << " bins | points where the head is closer |\n"
       << "|---|---|---|\n";
     s << "| directional head (predicted) | " << head << " | |\n";
-    s << "| uniform radiance, reference's ∫ L cos (floor) | " << uniform << " | |\n";
+    s << "| uniform radiance of the irradiance head's Ê (the head's start) | " << uniform_model << " | |\n";
+    s << "| uniform radiance, reference's ∫ L cos (oracle floor) | " << uniform << " | |\n";
     for (size_t l = 0; l < sh.size(); ++l)
         s << "| SH best fit to the reference, l ≤ " << l << " (" << (l + 1) * (l + 1) << " coefficients) | " << sh[l] << " | "
           << head_beats_sh[l] << " of " << points << " |\n";

@@ -16,6 +16,7 @@ namespace ltm {
 GuideBuild build_guide_cache(LtmModel &model, const EmbreeAccel &accel, const GuideBuildOptions &opt) {
     if (!model->directional) LTM_THROW("--method guided: model '", model->cfg.name, "' has no directional head (train one: ltm train --head directional)");
     if (opt.points < 9) LTM_THROW("--guide-points ", opt.points, ": need at least 9");
+    if (opt.resolution < 1 || opt.resolution > 256) LTM_THROW("--guide-resolution ", opt.resolution, ": need 1..256");
     const auto t0 = std::chrono::steady_clock::now();
     torch::NoGradGuard no_grad;
     model->eval();
@@ -28,7 +29,7 @@ GuideBuild build_guide_cache(LtmModel &model, const EmbreeAccel &accel, const Gu
     std::vector<float> xyz;
     for (size_t i = 0; i < m; ++i) xyz.insert(xyz.end(), {sp.at(i, 0), sp.at(i, 1), sp.at(i, 2)});
     const std::vector<int64_t> pick = farthest_points(xyz.data(), m, c);
-    const int R = model->cfg.directional->bin_resolution, nb = R * R;
+    const int R = opt.resolution, nb = R * R;
     std::vector<Vec3f> pos, nrm;
     std::vector<float> qrows, dirs;
     for (int64_t i : pick) {

@@ -391,7 +391,7 @@ torch::Tensor Trainer::directional_step_loss(CachedScene &sc, uint64_t u, int64_
 double Trainer::validate_directional() {
     torch::NoGradGuard no_grad;
     m_model->eval();
-    double sum = 0, err = 0, err_uniform = 0, gap_model = 0, gap_ref = 0, level = 0;
+    double sum = 0, err = 0, err_uniform = 0, err_uniform_model = 0, gap_model = 0, gap_ref = 0, level = 0;
     const size_t W = size_t(m_comm->world_size()), r0 = size_t(m_comm->rank());
     for (size_t i = r0; i < m_val_paths.size(); i += W) {
         CachedScene &sc = scene(m_train_paths.size() + i);
@@ -436,17 +436,19 @@ double Trainer::validate_directional() {
         const auto pts_dev = pts.to(m_device);
         auto e_model = m_model->predict_irradiance(sc.query_points.index_select(0, pts_dev), lat);
         if (!indirect) e_model = e_model + rows_tensor(r.e_direct, 3).to(m_device).index_select(0, pts_dev);
+        err_uniform_model += ((e_model / k_pi).repeat_interleave(nb, 0) - l_ref).pow(2).sum().item<double>() / r2;
         gap_model += (integral - e_model).abs().mean().item<double>() / (e_model.abs().mean().item<double>() + 1e-30);
         gap_ref += (integral - e_ref).abs().mean().item<double>() / (e_ref.abs().mean().item<double>() + 1e-30);
         level += integral.mean().item<double>() / (e_ref.mean().item<double>() + 1e-30);
     }
     if (W > 1) {
-        const std::vector<double> t = m_comm->all_reduce_sum({sum, err, err_uniform, gap_model, gap_ref, level});
-        sum = t[0], err = t[1], err_uniform = t[2], gap_model = t[3], gap_ref = t[4], level = t[5];
+        const std::vector<double> t = m_comm->all_reduce_sum({sum, err, err_uniform, gap_model, gap_ref, level, err_uniform_model});
+        sum = t[0], err = t[1], err_uniform = t[2], gap_model = t[3], gap_ref = t[4], level = t[5], err_uniform_model = t[6];
     }
     const double n = double(m_val_paths.size());
     m_val_mse_log = NAN;
     m_val_physics = {{"val_dir_rel_mse", err / n}, {"val_dir_rel_mse_uniform", err_uniform / n},
+                     {"val_dir_rel_mse_uniform_model", err_uniform_model / n},
                      {"val_hemisphere_gap_vs_model", gap_model / n}, {"val_hemisphere_gap_vs_ref", gap_ref / n},
                      {"val_dir_level_ratio", level / n}};
     m_model->train();
@@ -568,7 +570,8 @@ void Trainer::run(bool resume, int64_t stop_at) {
             log << vj.dump() << "\n" << std::flush;
             if (m_cfg.head == "directional")
                 log_info("step ", m_step, " validation loss ", v, ", L_in relative MSE ", m_val_physics.value("val_dir_rel_mse", NAN),
-                         " (uniform radiance ", m_val_physics.value("val_dir_rel_mse_uniform", NAN), "), hemisphere integral vs the irradiance head ",
+                         " (uniform radiance of the irradiance head ", m_val_physics.value("val_dir_rel_mse_uniform_model", NAN),
+                         ", of the reference ", m_val_physics.value("val_dir_rel_mse_uniform", NAN), "), hemisphere integral vs the irradiance head ",
                          m_val_physics.value("val_hemisphere_gap_vs_model", NAN), ", vs the reference ", m_val_physics.value("val_hemisphere_gap_vs_ref", NAN),
                          " (", m_val_paths.size(), " held-out scenes)");
             else

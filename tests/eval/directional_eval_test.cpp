@@ -47,6 +47,8 @@ TEST(DirectionalEval, UniformStartIntegratesToThePriorAndShErrorsFall) {
     EXPECT_EQ(r.records, 1);
     EXPECT_EQ(r.points, 8);
     EXPECT_LT(r.hemisphere_gap_vs_model, 1e-5);
+    // ... and the head is then exactly the uniform radiance of the irradiance head: the same error.
+    EXPECT_NEAR(r.head, r.uniform_model, 1e-5 * r.uniform_model);
     EXPECT_TRUE(std::isfinite(r.head) && std::isfinite(r.uniform) && std::isfinite(r.hemisphere_gap_vs_ref));
     ASSERT_EQ(r.sh.size(), 4u);
     for (size_t l = 1; l < r.sh.size(); ++l) EXPECT_LE(r.sh[l], r.sh[l - 1] * (1 + 1e-9)) << l;

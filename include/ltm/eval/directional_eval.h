@@ -26,6 +26,9 @@ struct DirectionalEvalResult {
     int records = 0, points = 0, resolution = 0;
     std::string radiance;                ///< "indirect" (L_in⁺) or "incident"
     double head = 0, uniform = 0;        ///< the head; a uniform radiance with the reference's ∫ L cos
+    /// A uniform radiance with the irradiance head's Ê (its prior when the decoder is zeroed): the
+    /// directional head's own start, so head < this means it learned where the light comes from.
+    double uniform_model = 0;
     std::vector<double> sh;              ///< [l_max + 1] best SH fit of degree l
     /// Points where the head's error is below the SH fit's, per degree (out of `points`).
     std::vector<int> head_beats_sh;

@@ -14,6 +14,9 @@ namespace ltm {
 
 struct GuideBuildOptions {
     int points = 1024;              ///< C cache points (C·R² decodes: the model's cost)
+    /// R of the guide's bins: the head takes any direction, so it is queried at the centres of
+    /// R×R bins, not necessarily the R it was trained on (16: a quarter of the decodes of 32).
+    int resolution = 16;
     float radius_spacings = 3.f;    ///< lookup radius in units of the cache points' spacing
     uint64_t seed = 0;              ///< scene point sampling
 };

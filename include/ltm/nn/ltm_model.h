@@ -91,8 +91,9 @@ struct LtmModelImpl : torch::nn::Module {
     ///   query_points [N, 9] raw, direction [N, 3] unit (world frame) -> z [N, 3] >= 0
     torch::Tensor decode_radiance(const torch::Tensor &query_points, const torch::Tensor &direction, const SceneLatents &latents);
     /// Inference in chunks (no autograd): L_in = output_scale / π · expm1(z).   [N, 9], [N, 3] -> [N, 3]
+    /// (libtorch modules: chunks of ~2k keep the [chunk, κ, D] temporaries in cache)
     torch::Tensor predict_radiance(const torch::Tensor &query_points, const torch::Tensor &direction,
-                                   const SceneLatents &latents, int64_t chunk = 16384);
+                                   const SceneLatents &latents, int64_t chunk = 2048);
     int64_t n_parameters() const;
 
     ModelConfig cfg;
