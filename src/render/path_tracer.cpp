@@ -123,19 +123,34 @@ IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key,
     Pcg32 rng(key);
     IrradianceEstimate e;
     const Frame frame(n);
-    // Cosine-weighted direction: π·(L_r(y) + MIS-weighted Le(y)).
-    const Vec3f wi = frame.to_world(sample_cosine_hemisphere(stratified(s, n_samples, rng)));
-    const Ray ray{offset_ray_origin(p, n, wi), wi};
-    if (const auto hit = m_accel.intersect(ray)) {
-        const SurfaceInteraction y = make_interaction(m_scene, ray, *hit);
-        const Vec3f le = y.emitted();
-        if (max_component(le) > 0.f) {
-            const float pdf_b = std::max(dot(wi, n), 0.f) * k_inv_pi;
-            const float pdf_l = LightSampler::to_solid_angle(m_lights.pdf_area(hit->mesh, hit->triangle),
-                                                             hit->t * hit->t, -dot(hit->n, wi));
-            e.direct = le * (k_pi * power_heuristic(pdf_b, pdf_l));
+    // The irradiance integrand's direction: cosine-weighted (cos/pdf = π), or with a guide nearby
+    // the mixture α·cos/π + (1 − α)·guide (stratified u either way), weighted cos/pdf exactly.
+    const Vec2f u = stratified(s, n_samples, rng);
+    const Bsdf lambert{BsdfKind::diffuse, Vec3f(1.f), Vec3f(0.f), 0.3f};
+    GuidedSampler sampler{&lambert, nullptr, m_guide_alpha};
+    if (m_guide && with_indirect)
+        if (const int c = m_guide->lookup(p, n); c >= 0) sampler.guide = &m_guide->diffuse(c);
+    Vec3f wi = frame.to_world(sample_cosine_hemisphere(u));
+    float pdf_b = std::max(dot(wi, n), 0.f) * k_inv_pi, cos_over_pdf = k_pi;   // the cosine strategy, exactly as unguided
+    bool traced = true;
+    if (sampler.guide) {
+        const float u_pick = rng.next_float();
+        const BsdfSample bs = sampler.sample({0.f, 0.f, 1.f}, u_pick, u);
+        traced = bs.pdf > 0.f && bs.wi.z > 0.f;
+        wi = frame.to_world(bs.wi), pdf_b = bs.pdf, cos_over_pdf = traced ? bs.wi.z / bs.pdf : 0.f;
+    }
+    if (traced) {
+        const Ray ray{offset_ray_origin(p, n, wi), wi};
+        if (const auto hit = m_accel.intersect(ray)) {
+            const SurfaceInteraction y = make_interaction(m_scene, ray, *hit);
+            const Vec3f le = y.emitted();
+            if (max_component(le) > 0.f) {
+                const float pdf_l = LightSampler::to_solid_angle(m_lights.pdf_area(hit->mesh, hit->triangle),
+                                                                 hit->t * hit->t, -dot(hit->n, wi));
+                e.direct = le * (cos_over_pdf * power_heuristic(pdf_b, pdf_l));
+            }
+            if (with_indirect) e.indirect = reflected_radiance(y, -wi, m_cfg.max_depth, rng) * cos_over_pdf;
         }
-        if (with_indirect) e.indirect = reflected_radiance(y, -wi, m_cfg.max_depth, rng) * k_pi;
     }
     // Light sample: Le·cosθ / pdf_l, MIS-weighted against the cosine strategy.
     if (!m_lights.empty()) {
@@ -148,7 +163,8 @@ IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key,
         if (d2 > 0.f && cos_x > 0.f && cos_light > 0.f) {
             if (!m_accel.occluded(shadow_ray(p, n, ls.p))) {
                 const float pdf_l = LightSampler::to_solid_angle(ls.pdf_area, d2, cos_light);
-                e.direct += ls.radiance * (cos_x * power_heuristic(pdf_l, cos_x * k_inv_pi) / pdf_l);
+                const float pdf_b_l = sampler.guide ? sampler.pdf({0.f, 0.f, 1.f}, frame.to_local(wl)) : cos_x * k_inv_pi;
+                e.direct += ls.radiance * (cos_x * power_heuristic(pdf_l, pdf_b_l) / pdf_l);
             }
         }
     }

@@ -30,6 +30,8 @@ public:
     /// Point c's bins [R²] and its radiance-only distribution (for diffuse vertices: f is constant).
     const Vec3f *radiance(int c) const { return m_radiance.data() + size_t(c) * size_t(m_res) * size_t(m_res); }
     const BinDistribution &diffuse(int c) const { return m_diffuse[size_t(c)]; }
+    const std::vector<Vec3f> &positions() const { return m_position; }
+    const std::vector<Vec3f> &normals() const { return m_normal; }
 
 private:
     int64_t cell_key(int64_t x, int64_t y, int64_t z) const { return (x * 73856093) ^ (y * 19349663) ^ (z * 83492791); }

@@ -63,9 +63,9 @@ public:
     const PathTracerConfig &config() const { return m_cfg; }
     /// Path guiding (render/guide_cache.h): at every vertex of reflected_radiance() with a cache
     /// point nearby, the next direction comes from α·BSDF + (1 − α)·guide (product with the BSDF
-    /// for conductors), with the mixture's exact pdf in the MIS weights: unbiased. The first
-    /// bounce of irradiance_sample() keeps its stratified cosine sample (it also serves the MIS of
-    /// direct light). Null: plain BSDF sampling, bit-identical to a tracer without a guide.
+    /// for conductors), with the mixture's exact pdf in the MIS weights: unbiased. irradiance_sample()
+    /// (with_indirect) draws its first direction from α·cos/π + (1 − α)·guide, its pdf in both
+    /// MIS weights of direct light. Null: plain BSDF sampling, bit-identical to a tracer without a guide.
     void set_guide(const GuideCache *guide, float alpha = 0.25f);
     const EmbreeAccel &accel() const { return m_accel; }
 
