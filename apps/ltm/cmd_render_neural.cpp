@@ -24,9 +24,13 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     opt.direct_spp = a.direct_spp, opt.direct = parse_direct_estimator(a.direct_estimator);
     opt.seed = common.seed, opt.exclude_enclosed = a.exclude_enclosed;
     opt.gi.stride = a.gi_stride;
+    opt.glossy_samples = a.glossy_samples;
     const NeuralRender r = render_neural(m.model, pt, cam, opt);
-    if (r.n_conductor > 0)
-        log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (the model predicts irradiance only)");
+    if (r.n_conductor > 0 && !r.glossy_from_head)
+        log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (the model has no directional head)");
+    if (r.glossy_from_head)
+        log_info(r.n_conductor, " conductor pixels shaded with the directional head (", a.glossy_samples, " GGX samples each) in ",
+                 format_duration(r.timings.glossy));
     write_rendered_image(r.image, a.prefix, a.exposure);
     write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
     const auto &t = r.timings;
@@ -40,6 +44,8 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"scene_points", r.n_scene_points},
                      {"direct_spp", a.direct_spp},
                      {"direct_estimator", direct_estimator_name(r.direct)},
+                     {"conductor_pixels", r.n_conductor},
+                     {"glossy_from_head", r.glossy_from_head},
                      {"threads", common.threads},
                      {"timings", t.to_json()}};
     write_file_atomic(a.prefix + ".timings.json", j.dump(2) + "\n");

@@ -6,6 +6,8 @@
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/nn/checkpoint.h"
+#include "ltm/core/parallel.h"
+#include "ltm/core/rng.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/scene_points.h"
@@ -103,8 +105,8 @@ std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene
 
 OrderedJson NeuralTimings::to_json() const {
     return {{"gbuffer_s", gbuffer}, {"sample_s", sample}, {"geometry_s", geometry}, {"encode_s", encode},
-            {"knn_s", knn},         {"decode_s", decode}, {"direct_s", direct},     {"model_s", model()},
-            {"total_s", total}};
+            {"knn_s", knn},         {"decode_s", decode}, {"direct_s", direct},     {"glossy_s", glossy},
+            {"model_s", model()},   {"total_s", total}};
 }
 
 DirectEstimator parse_direct_estimator(const std::string &name) {
@@ -122,6 +124,60 @@ const char *direct_estimator_name(DirectEstimator e) {
     }
     return "?";
 }
+
+namespace {
+// Conductor pixels with the directional head: L = Le + L_direct (NEE + BSDF sampling, MIS: the
+// path tracer with one scattering event) + (1/K) Σ_k f cos / pdf · L̂⁺(p, ω_k), ω_k ~ GGX.
+void shade_conductors(LtmModel &model, const EncodedScene &enc, const PathTracer &pt, const Camera &camera, const GBuffer &gb,
+                      const NeuralRenderOptions &opt, RenderedImage &image) {
+    const Scene &scene = pt.accel().scene();
+    std::vector<size_t> hits;
+    for (size_t k = 0; k < gb.n_hits(); ++k)
+        if (!gb.diffuse[k]) hits.push_back(k);
+    if (hits.empty()) return;
+    const int K = opt.glossy_samples;
+    std::vector<Vec3f> direct(hits.size()), weight(hits.size() * size_t(K), Vec3f(0.f));
+    std::vector<float> qrows(hits.size() * size_t(K) * 9), dirs(hits.size() * size_t(K) * 3);
+    parallel_for(0, int64_t(hits.size()), 16, [&](int64_t b, int64_t e) {
+        for (int64_t h = b; h < e; ++h) {
+            const size_t k = hits[size_t(h)];
+            const int64_t pixel = gb.hit_pixels[k];
+            const Ray ray{camera.eye, camera.ray_direction(float(pixel % gb.width) + 0.5f, float(pixel / gb.width) + 0.5f)};
+            const auto hit = pt.accel().intersect(ray);
+            if (!hit) continue;   // the G-buffer's own ray: it hits
+            const SurfaceInteraction si = make_interaction(scene, ray, *hit);
+            Vec3f d(0.f);
+            for (int s = 0; s < opt.direct_spp; ++s) {
+                Pcg32 rng(pt.stream_key(0x6c055ull << 40 | uint64_t(pixel), uint64_t(s)));
+                d += pt.reflected_radiance(si, -ray.d, 1, rng);
+            }
+            direct[size_t(h)] = d / float(opt.direct_spp);
+            const Frame frame(si.front ? si.n : -si.n);
+            const Vec3f wo = frame.to_local(-ray.d);
+            const Bsdf bsdf = si.bsdf();
+            Pcg32 rng(pt.stream_key(0x9105ull << 40 | uint64_t(pixel), 0));
+            for (int j = 0; j < K; ++j) {
+                const size_t row = size_t(h) * size_t(K) + size_t(j);
+                const BsdfSample bs = bsdf.sample(wo, {rng.next_float(), rng.next_float()});
+                Vec3f w = frame.n;   // a failed sample: any valid direction, weight 0
+                if (bs.pdf > 0.f && bs.wi.z > 0.f) w = normalize(frame.to_world(bs.wi)), weight[row] = bs.weight;
+                const float q[9] = {gb.position[k].x, gb.position[k].y, gb.position[k].z, frame.n.x, frame.n.y, frame.n.z,
+                                    gb.albedo[k].x,   gb.albedo[k].y,   gb.albedo[k].z};
+                std::copy(q, q + 9, qrows.begin() + std::ptrdiff_t(row * 9));
+                dirs[row * 3] = w.x, dirs[row * 3 + 1] = w.y, dirs[row * 3 + 2] = w.z;
+            }
+        }
+    });
+    const auto l = model->predict_radiance(rows_tensor(qrows, 9), rows_tensor(dirs, 3), enc.latents).contiguous();
+    const Vec3f *lp = reinterpret_cast<const Vec3f *>(l.data_ptr<float>());
+    for (size_t h = 0; h < hits.size(); ++h) {
+        Vec3f ind(0.f);
+        for (int j = 0; j < K; ++j) ind += weight[h * size_t(K) + size_t(j)] * lp[h * size_t(K) + size_t(j)];
+        const size_t k = hits[h];
+        image.color.pixels[size_t(gb.hit_pixels[k])] = gb.emitted[k] + direct[h] + ind / float(K);
+    }
+}
+}  // namespace
 
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt) {
     if (opt.direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", opt.direct_spp);
@@ -144,6 +200,13 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
                                         : irradiance_images(pt, gb, opt.direct_spp, /*with_indirect=*/false);
     r.timings.direct = direct.seconds;
     r.image = compose_image(gb, direct.direct, indirect, &r.n_conductor);
+    if (model->directional && r.n_conductor > 0) {
+        if (opt.glossy_samples < 1) LTM_THROW("neural render: glossy samples per pixel must be >= 1, got ", opt.glossy_samples);
+        const auto tg = Clock::now();
+        shade_conductors(model, enc, pt, camera, gb, opt, r.image);
+        r.glossy_from_head = true;
+        r.timings.glossy = seconds_since(tg);
+    }
     r.timings.total = seconds_since(t0);
     r.image.seconds = r.timings.total;
     r.n_queries = int64_t(gb.n_hits());

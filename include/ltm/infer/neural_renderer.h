@@ -54,6 +54,7 @@ const char *direct_estimator_name(DirectEstimator e);
 
 struct NeuralTimings {
     double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
+    double glossy = 0;   ///< conductor pixels with the directional head (direct light + the head's L̂⁺)
     /// The model's own cost: everything but the G-buffer and direct light (which any renderer pays).
     double model() const { return sample + geometry + encode + knn + decode; }
     OrderedJson to_json() const;
@@ -65,6 +66,7 @@ struct NeuralRender {
     int64_t n_queries = 0;   ///< pixels with a surface
     int64_t n_decoded = 0;   ///< queries the decoder ran on (n_queries unless gi.stride > 1)
     int64_t n_scene_points = 0, n_conductor = 0;
+    bool glossy_from_head = false;   ///< conductors shaded with the directional head (else as diffuse)
     DirectEstimator direct = DirectEstimator::mis;   ///< the estimator that was used
 };
 struct NeuralRenderOptions {
@@ -73,6 +75,11 @@ struct NeuralRenderOptions {
     uint64_t seed = 0;              ///< scene-point sampling and direct-light streams
     bool exclude_enclosed = true;   ///< scene points as in the dataset
     GiUpsampleOptions gi{1};        ///< stride 1: Ê⁺ decoded at every pixel
+    /// Conductor pixels, when the model has a directional head (paper Fig. 11): direct light by
+    /// the path tracer's NEE + BSDF sampling with MIS (direct_spp samples), the indirect part
+    /// ∫ f L̂⁺ cos dω by this many GGX samples, each the head's L̂⁺ in that direction. Without a
+    /// head, conductors are shaded as diffuse (n_conductor says how many).
+    int glossy_samples = 16;
 };
 /// The whole neural render of one view.
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);
