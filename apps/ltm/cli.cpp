@@ -1,6 +1,7 @@
 // cli.cpp: the command table, common options, and the only place that catches exceptions.
 #include "cli.h"
 
+#include <cstdlib>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +10,7 @@
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/startup.h"
+#include "ltm/render/bake.h"
 #ifdef LTM_WITH_TORCH
 #include "ltm/nn/torch_runtime.h"
 #endif
@@ -106,6 +108,13 @@ int run_cli(const std::vector<std::string> &args) {
         }
     }
     return 2;
+}
+
+Shard shard_option(const std::string &flag_value) {
+    if (!flag_value.empty()) return Shard::parse(flag_value);
+    const char *id = std::getenv("SLURM_ARRAY_TASK_ID"), *n = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    if (!id || !n) return {};
+    return Shard::parse(std::string(id) + "/" + n);
 }
 
 std::pair<uint64_t, uint64_t> parse_seed_range(const std::string &s, const std::string &option) {

@@ -15,6 +15,7 @@ class App;
 namespace ltm {
 struct Camera;
 struct Scene;
+struct Shard;
 }  // namespace ltm
 
 namespace ltm::cli {
@@ -77,8 +78,10 @@ struct NeuralRenderArgs {
 };
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
 
-/// Writes <prefix>.irradiance.png: E⁺ alone, scaled by 1/(99th-percentile luminance) as in the
-/// metrics (eval/metrics.h), the way the paper's figures show irradiance.
+/// `--shard i/N` when given, else a Slurm array task's SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT,
+/// else 0/1. The CLI reads the environment; the libraries only take a Shard.
+Shard shard_option(const std::string &flag_value);
+
 /// "A:B" → seeds A .. B-1 (0 <= A < B); `option` names the flag in the error.
 std::pair<uint64_t, uint64_t> parse_seed_range(const std::string &s, const std::string &option);
 

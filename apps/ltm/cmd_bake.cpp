@@ -112,7 +112,7 @@ Command make_bake_command() {
             if (s.max_depth < 1) LTM_THROW("--max-depth ", s.max_depth, ": must be >= 1");
             if (s.bins && (s.bin_resolution <= 0 || s.bin_resolution > 256 || s.bin_spp <= 0))
                 LTM_THROW("--bin-res/--bin-spp: need 1..256 bins per side and > 0 samples per bin");
-            const Shard shard = a.shard.empty() ? Shard::from_environment() : Shard::parse(a.shard);
+            const Shard shard = shard_option(a.shard);
             const Scene scene = load_scene(a.scene);
             const std::string ply_path = a.points + "/query_points.ply";
             const PointSet query = read_ply(ply_path).select(query_point_columns(), ply_path);

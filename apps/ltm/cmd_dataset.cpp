@@ -49,7 +49,7 @@ Command make_dataset_command() {
                 if (a.scenes == 0) LTM_THROW("--scenes 0: must be > 0");
                 end = std::min<uint64_t>(hi, lo + uint64_t(a.scenes));
             }
-            const Shard shard = a.shard.empty() ? Shard::from_environment() : Shard::parse(a.shard);
+            const Shard shard = shard_option(a.shard);
             for (uint64_t s = lo; s < end; ++s)
                 if (int((s - lo) % uint64_t(shard.count)) == shard.index) opt.seeds.push_back(s);
             opt.test = a.test;

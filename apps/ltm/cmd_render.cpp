@@ -7,7 +7,7 @@
 #include "cli.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
-#include "ltm/eval/metrics.h"
+#include "ltm/core/tonemap.h"
 #include "ltm/render/image_renderer.h"
 #include "ltm/scene/scene_loader.h"
 #if LTM_WITH_TORCH

@@ -3,7 +3,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
-#include "ltm/eval/metrics.h"
+#include "ltm/core/tonemap.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/procgen/training_range.h"
 #include "ltm/scene/scene_loader.h"

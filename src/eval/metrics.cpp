@@ -121,29 +121,6 @@ void check_ssim_inputs(const Image &test, const Image &reference, const char *fn
 
 }  // namespace
 
-// ---- tone mapping ------------------------------------------------------------------------------
-
-float tonemap_scale(const Image &reference) {
-    check_image(reference, "tonemap_scale", "reference");
-    std::vector<float> lum(reference.pixels.size());
-    for (size_t i = 0; i < lum.size(); ++i) lum[i] = luminance(reference.pixels[i]);
-    const size_t k = size_t(std::floor(0.99 * double(lum.size() - 1)));
-    std::nth_element(lum.begin(), lum.begin() + std::ptrdiff_t(k), lum.end());
-    // Below the smallest normal float, 1/p would overflow: treat as black.
-    const float p = lum[k];
-    return p > std::numeric_limits<float>::min() ? 1.f / p : 1.f;
-}
-
-Image tonemap(const Image &img, float scale) {
-    check_image(img, "tonemap", "image");
-    if (!(std::isfinite(scale) && scale >= 0))
-        LTM_THROW("tonemap(): scale must be finite and >= 0, got ", scale);
-    Image out(img.width, img.height);
-    for (size_t i = 0; i < img.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) out.pixels[i][c] = clamp(img.pixels[i][c] * scale, 0.f, 1.f);
-    return out;
-}
-
 // ---- pixel-wise errors -------------------------------------------------------------------------
 
 double mse(const Image &test, const Image &reference) {

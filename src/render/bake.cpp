@@ -28,11 +28,6 @@ Shard Shard::parse(const std::string &s) {
     return sh;
 }
 
-Shard Shard::from_environment() {
-    const char *id = std::getenv("SLURM_ARRAY_TASK_ID"), *n = std::getenv("SLURM_ARRAY_TASK_COUNT");
-    if (!id || !n) return {};
-    return parse(std::string(id) + "/" + n);
-}
 
 std::string shard_path(const std::string &dir, const Shard &shard) {
     return dir + "/shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".safetensors";

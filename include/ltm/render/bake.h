@@ -29,8 +29,6 @@ struct Shard {
     int index = 0, count = 1;
     /// Parses "i/N" (0 ≤ i < N); throws on anything else.
     static Shard parse(const std::string &s);
-    /// From SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT if set, else 0/1.
-    static Shard from_environment();
     int64_t begin(int64_t n) const { return n * index / count; }
     int64_t end(int64_t n) const { return n * (index + 1) / count; }
 };
