@@ -8,6 +8,7 @@
 #include "ltm/core/math.h"
 #include "ltm/points/safetensors.h"
 #include "ltm/procgen/indoor_generator.h"
+#include "ltm/render/scene_points.h"
 #include "ltm/data/dataset.h"
 #include "test_util.h"
 
@@ -188,4 +189,23 @@ TEST(Dataset, ForeignOrCorruptRecordsAreErrors) {
     EXPECT_THROW(read_record(dir.path("scene-000002.safetensors")), Error);
     EXPECT_THROW(DataPreset::from_json(parse_json(R"({"spp": 0})", "p.json"), "p.json"), Error);
     EXPECT_THROW(DataPreset::from_json(parse_json(R"({"sppp": 4})", "p.json"), "p.json"), Error);
+}
+
+// A record's scene points are what render-time sampling gives for its scene and seed (the one
+// shared function, render/scene_points.h): the model sees at render time what it trained on.
+TEST(Dataset, RecordScenePointsAreRenderTimeSampling) {
+    test::TempDir dir;
+    BuildOptions opt;
+    opt.preset = small_preset();
+    opt.preset.query_points = 16;
+    opt.seeds = {6};
+    opt.out_dir = dir.path("data");
+    build_dataset(opt);
+    const SceneRecord r = read_record(list_records(opt.out_dir)[0]);
+    const GeneratedScene g = generate_indoor(GenConfig{}, 6);   // the ci preset's generator: built-in defaults
+    const EmbreeAccel accel(g.scene);
+    const ScenePoints s = sample_scene_points(accel, opt.preset.scene_points, 6, opt.preset.exclude_enclosed);
+    EXPECT_EQ(r.scene_points.values, s.points.values);
+    ASSERT_TRUE(r.emission_scale.has_value());
+    EXPECT_EQ(*r.emission_scale, s.emission_scale);
 }
