@@ -175,4 +175,20 @@ TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
     EXPECT_EQ(errors, 1) << r.err;
     EXPECT_EQ(dir.count(), n) << "no partial output";
 }
+
+// Issue #11's bad input: weights without a directional head given to guiding, glossy evaluation
+// or head training on records without bins — one line naming what is missing, no output.
+TEST(BadInput, DirectionalHeadMissingIsOneLine) {
+    test::TempDir dir;
+    save_scene_json(cornell_box(), dir.path("cb.json"));
+    const std::string weights = test::source_path("models/ltm-cpu.safetensors");   // irradiance only
+    const size_t n = dir.count();
+    expect_error(dir, n, {"render", dir.path("cb.json"), "--method", "guided", "--model", weights, "--spp", "1", "--width", "8",
+                          "--height", "8", "-o", dir.path("g")},
+                 "render", "has no directional head");
+    expect_error(dir, n, {"render", dir.path("cb.json"), "--method", "guided", "-o", dir.path("g")}, "render",
+                 "--method guided needs --model");
+    expect_error(dir, n, {"eval-directional", "--model", weights, "--data", dir.path("none"), "--out", dir.path("e")},
+                 "eval-directional", "has no directional head");
+}
 #endif
