@@ -194,10 +194,14 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
     const ClusterVisibility &vis = prior.visibility;
     parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
         std::vector<float> row(m), mask;
+        uint32_t mask_cluster = ~0u;   // neighbouring receivers (pixels) mostly share a cluster: build its mask once
         for (int64_t q = b; q < e; ++q) {
             const float *pp = position + size_t(q) * stride, *pn = normal + size_t(q) * stride;
             const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
-            if (!vis.empty()) visibility_mask(vis, vis.cluster_of(p, nq), mask);
+            if (!vis.empty()) {
+                const uint32_t c = vis.cluster_of(p, nq);
+                if (c != mask_cluster) visibility_mask(vis, c, mask), mask_cluster = c;
+            }
             const float w = transfer_row(soa, m, p, nq, reg, vis.empty() ? nullptr : mask.data(), row.data());
             float *o = out + size_t(q) * 3;
             for (int c = 0; c < 3; ++c) o[c] = w > 0.f ? dot8(row.data(), ex[c].data(), m) / w : 0.f;
