@@ -21,6 +21,23 @@ DataPreset small_preset() {
     p.spp = 8;
     return p;
 }
+// Builds the one record of `preset` for `seed` into `dir` and reads it back.
+SceneRecord build_one(const DataPreset &preset, uint64_t seed, const std::string &dir) {
+    BuildOptions opt;
+    opt.preset = preset;
+    opt.seeds = {seed};
+    opt.out_dir = dir;
+    build_dataset(opt);
+    return read_record(list_records(dir)[0]);
+}
+// Σ over the points' bins of (π/R²) L̄ per channel: the bins' cosine integral (R² = nb bins).
+double bins_integral(const SceneRecord &r, size_t n_points, int nb) {
+    double sum = 0;
+    for (size_t q = 0; q < n_points; ++q)
+        for (int c = 0; c < 3; ++c)
+            for (int b = 0; b < nb; ++b) sum += double(r.l_in[(q * size_t(nb) + size_t(b)) * 3 + size_t(c)]) * k_pi / double(nb);
+    return sum;
+}
 }  // namespace
 
 TEST(Dataset, BuildWritesRecordsAndSkipsExistingOnes) {
@@ -76,13 +93,9 @@ TEST(Dataset, BuildWritesRecordsAndSkipsExistingOnes) {
 // it — while area-uniform queries include surfaces turned away from it.
 TEST(Dataset, CameraQueriesAreSeenByTheCamera) {
     test::TempDir dir;
-    BuildOptions opt;
-    opt.preset = small_preset();
-    opt.preset.camera_queries = 0.25f;
-    opt.seeds = {3};
-    opt.out_dir = dir.path("data");
-    build_dataset(opt);
-    const SceneRecord r = read_record(list_records(opt.out_dir)[0]);
+    DataPreset preset = small_preset();
+    preset.camera_queries = 0.25f;
+    const SceneRecord r = build_one(preset, 3, dir.path("data"));
     EXPECT_EQ(r.metadata["preset"]["camera_queries"], 0.25);
     const Vec3f eye = generate_indoor(GenConfig{}, 3).scene.cameras.at(0).eye;
     ASSERT_EQ(r.query_points.size(), 512u);
@@ -101,40 +114,27 @@ TEST(Dataset, CameraQueriesAreSeenByTheCamera) {
 // independent irradiance bake: equal in expectation); a record with a malformed L_in is an error.
 TEST(Dataset, GlossyRecordsHoldBinsThatIntegrateToTheIrradiance) {
     test::TempDir dir;
-    BuildOptions opt;
-    opt.preset = small_preset();
-    opt.preset.query_points = 24;
-    opt.preset.spp = 1024;
-    opt.preset.bin_resolution = 8;
-    opt.preset.bin_spp = 64;
-    opt.preset.generator = test::source_path("configs/gen/glossy.json");
-    opt.seeds = {5};
-    opt.out_dir = dir.path("data");
-    build_dataset(opt);
-    const std::string path = list_records(opt.out_dir)[0];
-    const SceneRecord r = read_record(path);
+    DataPreset preset = small_preset();
+    preset.query_points = 24;
+    preset.spp = 1024;
+    preset.bin_resolution = 8;
+    preset.bin_spp = 64;
+    preset.generator = test::source_path("configs/gen/glossy.json");
+    const SceneRecord r = build_one(preset, 5, dir.path("data"));
+    const std::string path = r.path;
     ASSERT_EQ(r.bin_resolution, 8);
     ASSERT_EQ(r.l_in.size(), size_t(24 * 64 * 3));
     EXPECT_EQ(r.metadata["preset"]["bin_resolution"], 8);
-    double from_bins = 0, irradiance = 0;
-    for (size_t q = 0; q < 24; ++q)
-        for (int c = 0; c < 3; ++c) {
-            for (int b = 0; b < 64; ++b) from_bins += double(r.l_in[(q * 64 + size_t(b)) * 3 + size_t(c)]) * k_pi / 64.0;
-            irradiance += double(r.e_direct[q * 3 + size_t(c)]) + double(r.e_indirect[q * 3 + size_t(c)]);
-        }
+    const double from_bins = bins_integral(r, 24, 64);
+    double irradiance = 0, e_plus = 0;
+    for (size_t i = 0; i < 24 * 3; ++i) irradiance += double(r.e_direct[i]) + double(r.e_indirect[i]);
     EXPECT_NEAR(from_bins, irradiance, 0.05 * irradiance);
     // bin_radiance "indirect": the bins hold L_in⁺ (scattered light only), whose cosine sum is E⁺.
-    opt.preset.bin_radiance = "indirect";
-    opt.out_dir = dir.path("indirect");
-    build_dataset(opt);
-    const SceneRecord ri = read_record(list_records(opt.out_dir)[0]);
+    preset.bin_radiance = "indirect";
+    const SceneRecord ri = build_one(preset, 5, dir.path("indirect"));
     EXPECT_EQ(ri.metadata["preset"]["bin_radiance"], "indirect");
-    double from_bins_i = 0, e_plus = 0;
-    for (size_t q = 0; q < 24; ++q)
-        for (int c = 0; c < 3; ++c) {
-            for (int b = 0; b < 64; ++b) from_bins_i += double(ri.l_in[(q * 64 + size_t(b)) * 3 + size_t(c)]) * k_pi / 64.0;
-            e_plus += double(ri.e_indirect[q * 3 + size_t(c)]);
-        }
+    const double from_bins_i = bins_integral(ri, 24, 64);
+    for (size_t i = 0; i < 24 * 3; ++i) e_plus += double(ri.e_indirect[i]);
     EXPECT_NEAR(from_bins_i, e_plus, 0.05 * e_plus);
     EXPECT_LT(from_bins_i, 0.9 * from_bins) << "the emitters' direct light should be gone";
     // Without bins the key is not written (older presets keep their exact JSON).
@@ -195,16 +195,12 @@ TEST(Dataset, ForeignOrCorruptRecordsAreErrors) {
 // shared function, render/scene_points.h): the model sees at render time what it trained on.
 TEST(Dataset, RecordScenePointsAreRenderTimeSampling) {
     test::TempDir dir;
-    BuildOptions opt;
-    opt.preset = small_preset();
-    opt.preset.query_points = 16;
-    opt.seeds = {6};
-    opt.out_dir = dir.path("data");
-    build_dataset(opt);
-    const SceneRecord r = read_record(list_records(opt.out_dir)[0]);
+    DataPreset preset = small_preset();
+    preset.query_points = 16;
+    const SceneRecord r = build_one(preset, 6, dir.path("data"));
     const GeneratedScene g = generate_indoor(GenConfig{}, 6);   // the ci preset's generator: built-in defaults
     const EmbreeAccel accel(g.scene);
-    const ScenePoints s = sample_scene_points(accel, opt.preset.scene_points, 6, opt.preset.exclude_enclosed);
+    const ScenePoints s = sample_scene_points(accel, preset.scene_points, 6, preset.exclude_enclosed);
     EXPECT_EQ(r.scene_points.values, s.points.values);
     ASSERT_TRUE(r.emission_scale.has_value());
     EXPECT_EQ(*r.emission_scale, s.emission_scale);
