@@ -42,29 +42,17 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     std::vector<std::vector<Vec3f>> tile_rows;   // per tiled point: ref, head, SH 2, SH l_max
     for (const std::string &path : paths) {
         const SceneRecord r = read_record(path);
-        const std::string held = r.metadata.value("preset", OrderedJson::object()).value("bin_radiance", std::string("incident"));
-        if (r.bin_resolution != R)
-            LTM_THROW(path, ": ", r.bin_resolution ? "L_in over " + std::to_string(r.bin_resolution) + "² bins" : std::string("no L_in bins"),
-                      ", the directional head has ", R, "²");
-        if (held != dc.radiance) LTM_THROW(path, ": bins hold \"", held, "\" radiance, the head predicts \"", dc.radiance, "\"");
+        check_directional_record(r, dc);
         const int64_t nq = int64_t(r.query_points.size()), np = std::min<int64_t>(nq, opt.points_per_record);
         std::vector<int64_t> pts;
         for (int64_t j = 0; j < np; ++j) pts.push_back(j * nq / np);
-        // Queries repeated per bin, directions at bin centres in the bake's frame Frame(n).
-        std::vector<float> qrows, dirs;
-        for (int64_t q : pts)
-            for (int b = 0; b < nb; ++b) {
-                for (int c = 0; c < 9; ++c) qrows.push_back(r.query_points.at(size_t(q), size_t(c)));
-                const Vec2f uv{(float(b / R) + 0.5f) / float(R), (float(b % R) + 0.5f) / float(R)};
-                const Vec3f w = normalize(Frame(r.query_points.vec3(size_t(q), 3)).to_world(square_to_direction(uv)));
-                dirs.insert(dirs.end(), {w.x, w.y, w.z});
-            }
+        const HemisphereRows hemi = hemisphere_rows(r.query_points, pts, R);
         const auto t0 = std::chrono::steady_clock::now();
         const auto sp = point_tensor(r.scene_points);
         torch::Tensor es;
         if (r.emission_scale) es = torch::tensor({r.emission_scale->x, r.emission_scale->y, r.emission_scale->z});
         const SceneLatents lat = model->encode(sp, model->scene_geometry(sp), es);
-        const auto pred = model->predict_radiance(rows_tensor(qrows, 9), rows_tensor(dirs, 3), lat).contiguous();
+        const auto pred = model->predict_radiance(rows_tensor(hemi.query, 9), rows_tensor(hemi.direction, 3), lat).contiguous();
         seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::vector<float> qp;
         for (int64_t q : pts)
@@ -83,7 +71,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
             }
             for (int b = 0; b < nb; ++b) integral += h[b] * (float(k_pi) / float(nb));
             const std::vector<Vec3f> uniform(size_t(nb), e_ref / float(k_pi)), uniform_model(size_t(nb), e_model / float(k_pi));
-            ref2 += sq_err(ref.data(), std::vector<Vec3f>(size_t(nb), Vec3f(0.f)).data(), size_t(nb));
+            for (const Vec3f &l : ref) ref2 += double(dot(l, l));
             const double eh = sq_err(h, ref.data(), size_t(nb));
             res.head += eh;
             res.uniform += sq_err(uniform.data(), ref.data(), size_t(nb));

@@ -29,20 +29,11 @@ GuideBuild build_guide_cache(LtmModel &model, const EmbreeAccel &accel, const Gu
     std::vector<float> xyz;
     for (size_t i = 0; i < m; ++i) xyz.insert(xyz.end(), {sp.at(i, 0), sp.at(i, 1), sp.at(i, 2)});
     const std::vector<int64_t> pick = farthest_points(xyz.data(), m, c);
-    const int R = opt.resolution, nb = R * R;
+    const int R = opt.resolution;
     std::vector<Vec3f> pos, nrm;
-    std::vector<float> qrows, dirs;
-    for (int64_t i : pick) {
-        const Vec3f p = sp.vec3(size_t(i), 0), n = normalize(sp.vec3(size_t(i), 3));
-        pos.push_back(p), nrm.push_back(n);
-        const Frame f(n);
-        for (int b = 0; b < nb; ++b) {
-            for (int k = 0; k < 9; ++k) qrows.push_back(sp.at(size_t(i), size_t(k)));   // p, n, albedo
-            const Vec3f w = normalize(f.to_world(square_to_direction({(float(b / R) + 0.5f) / float(R), (float(b % R) + 0.5f) / float(R)})));
-            dirs.insert(dirs.end(), {w.x, w.y, w.z});
-        }
-    }
-    const auto pred = model->predict_radiance(rows_tensor(qrows, 9), rows_tensor(dirs, 3), lat).clamp_min(0.0).contiguous();
+    for (int64_t i : pick) pos.push_back(sp.vec3(size_t(i), 0)), nrm.push_back(normalize(sp.vec3(size_t(i), 3)));
+    const HemisphereRows hemi = hemisphere_rows(sp, pick, R);   // the scene points' first 9 columns: p, n, albedo
+    const auto pred = model->predict_radiance(rows_tensor(hemi.query, 9), rows_tensor(hemi.direction, 3), lat).clamp_min(0.0).contiguous();
     const Vec3f *l = reinterpret_cast<const Vec3f *>(pred.data_ptr<float>());
     std::vector<Vec3f> radiance(l, l + pred.size(0));
     const float radius = opt.radius_spacings * point_spacing(pos);

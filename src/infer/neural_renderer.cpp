@@ -5,9 +5,9 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
-#include "ltm/nn/checkpoint.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/rng.h"
+#include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/scene_points.h"

@@ -3,10 +3,23 @@
 
 #include <cmath>
 
+#include "ltm/core/error.h"
+
 #include "ltm/nn/nn_embedding.h"
 #include "ltm/nn/point_tensor.h"
 
 namespace ltm {
+
+void check_directional_record(const SceneRecord &r, const DirectionalConfig &cfg) {
+    if (r.bin_resolution != cfg.bin_resolution)
+        LTM_THROW(r.path, ": ", r.bin_resolution ? "L_in over " + std::to_string(r.bin_resolution) + "² bins" : std::string("no L_in bins"),
+                  ", the directional head expects ", cfg.bin_resolution, "² (a glossy preset, e.g. configs/data/glossy.json)");
+    // Records from before the key hold the paper's L_in.
+    const std::string held = r.metadata.value("preset", OrderedJson::object()).value("bin_radiance", std::string("incident"));
+    if (held != cfg.radiance)
+        LTM_THROW(r.path, ": bins hold \"", held, "\" radiance, the directional head predicts \"", cfg.radiance,
+                  "\" (data preset bin_radiance / model directional.radiance)");
+}
 
 torch::Tensor direction_features(const torch::Tensor &d, const torch::Tensor &n, int frequencies) {
     TORCH_CHECK(d.dim() == 2 && d.size(1) == 3 && n.sizes() == d.sizes(), "direction_features: direction and normal must be [N, 3], got ",

@@ -22,7 +22,7 @@ GuideCache::GuideCache(int resolution, std::vector<Vec3f> position, std::vector<
             const Vec3f l = m_radiance[i * nb + b];
             if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) || l.x < 0.f || l.y < 0.f || l.z < 0.f)
                 LTM_THROW("guide cache: point ", i, " bin ", b, " has radiance (", l.x, ", ", l.y, ", ", l.z, ")");
-            lum[b] = 0.2126f * l.x + 0.7152f * l.y + 0.0722f * l.z;
+            lum[b] = luminance(l);
         }
         m_diffuse.emplace_back(resolution, lum);
         const Vec3f &p = m_position[i];

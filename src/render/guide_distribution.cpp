@@ -9,10 +9,6 @@
 
 namespace ltm {
 
-namespace {
-float lum(Vec3f c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-}  // namespace
-
 BinDistribution::BinDistribution(int resolution, const std::vector<float> &weights) : m_res(resolution) {
     const size_t nb = size_t(resolution) * size_t(resolution);
     if (resolution < 1 || weights.size() != nb)
@@ -37,9 +33,8 @@ BinDistribution::Sample BinDistribution::sample(Vec2f u) const {
     while (m_cdf[b + 1] - m_cdf[b] <= 0.0 && b > 0) --b;   // u.x = 1 − ε past trailing empty cells
     const double width = m_cdf[b + 1] - m_cdf[b];
     const float rx = float(std::clamp((x - m_cdf[b]) / width, 0.0, double(0x1.fffffep-1f)));
-    const Vec2f sq{(float(int(b) / m_res) + rx) / float(m_res), (float(int(b) % m_res) + u.y) / float(m_res)};
     Sample s;
-    s.w = square_to_direction(sq);
+    s.w = square_to_direction(bin_to_square(int(b), m_res, {rx, u.y}));
     s.pdf = pdf(s.w);
     return s;
 }
@@ -52,13 +47,17 @@ float BinDistribution::pdf(Vec3f w) const {
 }
 
 std::vector<float> product_weights(const std::vector<Vec3f> &radiance, int resolution, const Bsdf &bsdf, Vec3f wo) {
+    if (radiance.size() != size_t(resolution) * size_t(resolution))
+        LTM_THROW("guide: ", radiance.size(), " radiance bins for ", resolution, "²");
+    return product_weights(radiance.data(), resolution, bsdf, wo);
+}
+
+std::vector<float> product_weights(const Vec3f *radiance, int resolution, const Bsdf &bsdf, Vec3f wo) {
     const size_t nb = size_t(resolution) * size_t(resolution);
-    if (radiance.size() != nb) LTM_THROW("guide: ", radiance.size(), " radiance bins for ", resolution, "²");
     std::vector<float> w(nb);
-    for (size_t b = 0; b < nb; ++b) {
-        const Vec2f c{(float(int(b) / resolution) + 0.5f) / float(resolution), (float(int(b) % resolution) + 0.5f) / float(resolution)};
-        w[b] = std::max(0.f, lum(radiance[b])) * std::max(0.f, lum(bsdf.eval(wo, square_to_direction(c))));
-    }
+    for (size_t b = 0; b < nb; ++b)
+        w[b] = std::max(0.f, luminance(radiance[b])) *
+               std::max(0.f, luminance(bsdf.eval(wo, square_to_direction(bin_to_square(int(b), resolution)))));
     return w;
 }
 

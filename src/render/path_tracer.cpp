@@ -39,13 +39,13 @@ Vec2f stratified(int s, int n, Pcg32 &rng) {
 }
 }  // namespace
 
-// NEE at si: one light sample, weighted against BSDF sampling (power heuristic).
 void PathTracer::set_guide(const GuideCache *guide, float alpha) {
     if (guide && !(alpha > 0.f && alpha <= 1.f)) LTM_THROW("path guiding: the BSDF share α = ", alpha, " must be in (0, 1]");
     m_guide = guide && !guide->empty() ? guide : nullptr;
     m_guide_alpha = alpha;
 }
 
+// NEE at si: one light sample, weighted against the vertex's sampler (power heuristic).
 Vec3f PathTracer::light_sample_contribution(const SurfaceInteraction &si, const Frame &frame, Vec3f wo_local,
                                             const Bsdf &bsdf, const GuidedSampler &sampler, Pcg32 &rng) const {
     if (m_lights.empty()) return Vec3f(0.f);
@@ -85,7 +85,7 @@ Vec3f PathTracer::reflected_radiance(const SurfaceInteraction &si0, Vec3f wo_wor
                     sampler.guide = &m_guide->diffuse(c);
                 } else {
                     const int r = m_guide->resolution();
-                    product = BinDistribution(r, product_weights({m_guide->radiance(c), m_guide->radiance(c) + r * r}, r, bsdf, wo_local));
+                    product = BinDistribution(r, product_weights(m_guide->radiance(c), r, bsdf, wo_local));
                     sampler.guide = &product;
                 }
             }
@@ -191,13 +191,11 @@ std::vector<Vec3f> PathTracer::incident_radiance_bins(Vec3f p, Vec3f n, uint64_t
     const Frame frame(n);
     std::vector<Vec3f> bins(size_t(resolution * resolution));
     for (int b = 0; b < resolution * resolution; ++b) {
-        const int bi = b / resolution, bj = b % resolution;
         Vec3f sum(0.f);
         for (int s = 0; s < samples_per_bin; ++s) {
             Pcg32 rng(stream_key(point_index, (uint64_t(b) << 32) | uint64_t(s)));
             const Vec2f u = stratified(s, samples_per_bin, rng);
-            const Vec2f uv{(float(bi) + u.x) / float(resolution), (float(bj) + u.y) / float(resolution)};
-            const Vec3f wi = frame.to_world(square_to_direction(uv));
+            const Vec3f wi = frame.to_world(square_to_direction(bin_to_square(b, resolution, u)));
             const Ray ray{offset_ray_origin(p, n, wi), wi};
             const auto hit = m_accel.intersect(ray);
             if (!hit) continue;

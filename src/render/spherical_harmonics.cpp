@@ -49,12 +49,10 @@ BinShFit::BinShFit(int resolution, int l_max, int sub) : m_res(resolution), m_lm
     m_mean.assign(size_t(nb) * size_t(K), 0.0);
     std::vector<double> y(static_cast<size_t>(K));
     for (int b = 0; b < nb; ++b) {
-        const int i = b / resolution, j = b % resolution;
         double *row = m_mean.data() + size_t(b) * size_t(K);
         for (int su = 0; su < sub; ++su)
             for (int sv = 0; sv < sub; ++sv) {
-                const Vec2f u{(float(i) + (float(su) + 0.5f) / float(sub)) / float(resolution),
-                              (float(j) + (float(sv) + 0.5f) / float(sub)) / float(resolution)};
+                const Vec2f u = bin_to_square(b, resolution, {(float(su) + 0.5f) / float(sub), (float(sv) + 0.5f) / float(sub)});
                 sh_evaluate(l_max, square_to_direction(u), y.data());
                 for (int k = 0; k < K; ++k) row[k] += y[size_t(k)] / double(sub * sub);
             }

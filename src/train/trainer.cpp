@@ -71,16 +71,6 @@ double learning_rate(const TrainConfig &c, int64_t step) {
     return lo + (double(c.lr) - lo) * 0.5 * (1.0 + std::cos(3.14159265358979323846 * std::min(1.0, t)));
 }
 
-namespace {
-// The head predicts what its records hold (DirectionalConfig::radiance vs DataPreset::bin_radiance).
-void check_bin_radiance(const SceneRecord &r, const ModelConfig &mc) {
-    const std::string held = r.metadata.value("preset", OrderedJson::object()).value("bin_radiance", std::string("incident"));
-    if (held != mc.directional->radiance)
-        LTM_THROW(r.path, ": bins hold \"", held, "\" radiance, the directional head predicts \"", mc.directional->radiance,
-                  "\" (data preset bin_radiance / model directional.radiance)");
-}
-}  // namespace
-
 Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std::vector<std::string> &data_dirs,
                  const std::string &out_dir, torch::Device device, const std::vector<std::string> &val_dirs)
     : m_model_cfg(model_cfg), m_cfg(cfg), m_out(out_dir), m_device(device) {
@@ -110,11 +100,7 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
         if (cfg.loss == "log-relative-l2") LTM_THROW("head \"directional\": loss \"log-relative-l2\" is for E⁺ only (use relative-l2 or level-l2)");
         if (!model_cfg.directional)
             LTM_THROW("head \"directional\": model '", model_cfg.name, "' has no \"directional\" section");
-        if (first.bin_resolution != model_cfg.directional->bin_resolution)
-            LTM_THROW(m_train_paths.front(), ": ", first.bin_resolution ? "L_in over " + std::to_string(first.bin_resolution) + "² bins"
-                                                                          : std::string("no L_in bins"),
-                      ", the directional head expects ", model_cfg.directional->bin_resolution, "² (a glossy preset, e.g. configs/data/glossy.json)");
-        check_bin_radiance(first, model_cfg);
+        check_directional_record(first, *model_cfg.directional);   // early, before any model is built
     }
     torch::manual_seed(cfg.seed);
     m_model = LtmModel(model_cfg);
@@ -167,10 +153,7 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
         c->scene_points = sp.to(m_device);
         c->query_points = point_tensor(r.query_points).to(m_device);
         c->target = rows_tensor(r.e_indirect, 3).to(m_device);
-        if (m_cfg.head == "directional" && r.bin_resolution != m_model_cfg.directional->bin_resolution)
-            LTM_THROW(path, ": ", r.bin_resolution ? "L_in over " + std::to_string(r.bin_resolution) + "² bins" : std::string("no L_in bins"),
-                      ", the directional head expects ", m_model_cfg.directional->bin_resolution, "²");
-        if (m_cfg.head == "directional") check_bin_radiance(r, m_model_cfg);
+        if (m_cfg.head == "directional") check_directional_record(r, *m_model_cfg.directional);
         if (r.emission_scale) {
             const Vec3f s = *r.emission_scale;
             c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
@@ -205,8 +188,9 @@ TrainStepLog Trainer::train_step() {
         CachedScene &sc = scene(perm[u % n]);
         const int64_t nq = sc.query_points.size(0);
         const int64_t share = m_cfg.batch_queries / K + (k < m_cfg.batch_queries % K ? 1 : 0);
+        // One of the 8 horizontal symmetries per scene draw (train/augment.h): targets and cached FPS/kNN stay valid.
+        const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, u}) % k_n_symmetries) : 0;
         if (m_cfg.head == "directional") {
-            const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, u}) % k_n_symmetries) : 0;
             const auto l = directional_step_loss(sc, u, share, sym) / double(K);
             const double v = l.item<double>();
             if (!std::isfinite(v)) log.skipped = true;
@@ -218,8 +202,6 @@ TrainStepLog Trainer::train_step() {
         for (auto &p : pick) p = int64_t(q_rng.next_below(uint32_t(nq)));
         const auto idx = torch::tensor(pick, torch::kInt64).to(m_device);
         m_model->encoder->reseed(hash_keys({m_cfg.seed, 0x0dde5ull, u}) >> 1);   // PTv3 order shuffles, drop path
-        // One of the 8 horizontal symmetries per scene draw (train/augment.h): targets and cached FPS/kNN stay valid.
-        const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, u}) % k_n_symmetries) : 0;
         const auto scene_points = apply_symmetry(sc.scene_points, sym);
         const auto queries = apply_symmetry(sc.query_points.index_select(0, idx), sym);
         const SceneLatents lat = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
@@ -349,8 +331,7 @@ SceneLatents Trainer::latents(CachedScene &sc, const torch::Tensor &scene_points
 namespace {
 // World direction of a point (u, v) of bin b's cell, in the tangent frame the bake used (Frame(n)).
 Vec3f bin_direction(Vec3f n, int b, int resolution, float u, float v) {
-    const Vec2f uv{(float(b / resolution) + u) / float(resolution), (float(b % resolution) + v) / float(resolution)};
-    return normalize(Frame(n).to_world(square_to_direction(uv)));
+    return normalize(Frame(n).to_world(square_to_direction(bin_to_square(b, resolution, {u, v}))));
 }
 }  // namespace
 
@@ -403,22 +384,17 @@ double Trainer::validate_directional() {
         // against the bins, and ∫ L̂ cos dω = (π/R²) Σ_bins L̂ against E_direct + E⁺.
         const int64_t n_pts = std::max<int64_t>(1, std::min<int64_t>(nq, m_cfg.val_queries / nb));
         const auto pts = spread_rows(nq, n_pts, torch::kCPU);
-        std::vector<int64_t> rows;
-        std::vector<float> dirs, target, e_total;
-        for (int64_t j = 0; j < pts.size(0); ++j) {
-            const int64_t q = pts[j].item<int64_t>();
-            for (int b = 0; b < nb; ++b) {
-                const Vec3f w = bin_direction(r.query_points.vec3(size_t(q), 3), b, R, 0.5f, 0.5f);
-                rows.push_back(q);
-                for (int c = 0; c < 3; ++c)
-                    dirs.push_back(w[c]), target.push_back(r.l_in[(size_t(q) * size_t(nb) + size_t(b)) * 3 + size_t(c)]);
-            }
+        const std::vector<int64_t> rows(pts.data_ptr<int64_t>(), pts.data_ptr<int64_t>() + pts.size(0));
+        std::vector<float> target, e_total;
+        for (int64_t q : rows) {
+            const float *bins = r.l_in.data() + size_t(q) * size_t(nb) * 3;
+            target.insert(target.end(), bins, bins + size_t(nb) * 3);
             for (int c = 0; c < 3; ++c)
                 e_total.push_back((indirect ? 0.f : r.e_direct[size_t(q) * 3 + size_t(c)]) + r.e_indirect[size_t(q) * 3 + size_t(c)]);
         }
-        const auto idx = torch::tensor(rows, torch::kInt64).to(m_device);
-        const auto queries = sc.query_points.index_select(0, idx);
-        const auto direction = rows_tensor(dirs, 3).to(m_device);
+        const HemisphereRows hemi = hemisphere_rows(r.query_points, rows, R);
+        const auto queries = rows_tensor(hemi.query, 9).to(m_device);
+        const auto direction = rows_tensor(hemi.direction, 3).to(m_device);
         const SceneLatents lat = latents(sc, sc.scene_points, 0);
         const auto z = m_model->decode_radiance(queries, direction, lat);
         const auto scale = output_scale(queries, lat.norm);

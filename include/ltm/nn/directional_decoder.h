@@ -11,12 +11,17 @@
 
 #include "ltm/nn/model_config.h"
 #include "ltm/nn/query_decoder.h"
+#include "ltm/points/scene_record.h"
 
 namespace ltm {
 
 /// The head's direction features: ω, n·ω, then sin(2^k π ω), cos(2^k π ω) for k < F.
 ///   direction [N, 3] (unit, world frame), normal [N, 3] -> [N, 4 + 6F]
 torch::Tensor direction_features(const torch::Tensor &direction, const torch::Tensor &normal, int frequencies);
+
+/// Throws ltm::Error naming the record's file unless it holds L_in bins of the head's resolution
+/// and of the radiance it predicts (data preset bin_radiance vs directional.radiance).
+void check_directional_record(const SceneRecord &r, const DirectionalConfig &cfg);
 
 struct DirectionalDecoderImpl : torch::nn::Module {
     /// absolute_position false: 𝓗 sees the query with its position zeroed (PhysicsConfig::translation_invariant).

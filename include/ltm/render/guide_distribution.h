@@ -45,6 +45,8 @@ private:
 /// Product weights for one vertex: w_b = lum(L̂_b) · lum(f(ωo, ω_b)), ω_b the bin centres.
 ///   radiance [R²] (local bins), bsdf, wo local -> [R²]
 std::vector<float> product_weights(const std::vector<Vec3f> &radiance, int resolution, const Bsdf &bsdf, Vec3f wo);
+/// The same on R² bins held elsewhere (a guide cache's, read in place at every glossy vertex).
+std::vector<float> product_weights(const Vec3f *radiance, int resolution, const Bsdf &bsdf, Vec3f wo);
 
 /// The defensive mixture α · BSDF + (1 − α) · guide.
 struct GuidedSampler {

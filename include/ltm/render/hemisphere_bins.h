@@ -6,9 +6,19 @@
 // what importance sampling from predicted bins needs.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "ltm/core/math.h"
+#include "ltm/points/point_set.h"
 
 namespace ltm {
+
+/// The point (u.x, u.y) ∈ [0, 1)² of bin b's cell (bin b = i·R + j covers [i/R, (i+1)/R) × [j/R, (j+1)/R));
+/// u = (0.5, 0.5) is the cell's centre.
+inline Vec2f bin_to_square(int b, int resolution, Vec2f u = {0.5f, 0.5f}) {
+    return {(float(b / resolution) + u.x) / float(resolution), (float(b % resolution) + u.y) / float(resolution)};
+}
 
 /// Local direction (z = normal) for a point of the unit square (= sample_cosine_hemisphere).
 Vec3f square_to_direction(Vec2f u);
@@ -16,5 +26,14 @@ Vec3f square_to_direction(Vec2f u);
 Vec2f direction_to_square(Vec3f w);
 /// Flat bin index i·R + j of a local direction.
 int direction_to_bin(Vec3f w, int resolution);
+
+/// Whole hemispheres of chosen rows, as a directional model takes them: every row repeated R²
+/// times (its first 9 columns: p, n, albedo — query and scene points alike), each with the world
+/// direction of one bin's centre in the bake's frame Frame(n), bins in order.
+struct HemisphereRows {
+    std::vector<float> query;       ///< [rows·R², 9]
+    std::vector<float> direction;   ///< [rows·R², 3] unit
+};
+HemisphereRows hemisphere_rows(const PointSet &points, const std::vector<int64_t> &rows, int resolution);
 
 }  // namespace ltm
