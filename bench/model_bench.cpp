@@ -29,8 +29,10 @@ torch::Tensor points(int64_t n, SampleStream stream, bool scene) {
 ModelConfig preset(const std::string &name) { return ModelConfig::from_file(std::string(LTM_SOURCE_DIR) + "/configs/model/" + name + ".json"); }
 double mb(size_t bytes) { return double(bytes) / double(1 << 20); }
 
-// A `cpu` model (random weights, eval mode) with one encoded scene and 65536 normalised queries.
+// A `cpu` model (random weights, eval mode) with one encoded scene and 65536 normalised queries;
+// autograd is off while it lives (the decode benchmarks run in its scope).
 struct EncodedScene {
+    torch::NoGradGuard no_grad;   // first: also covers the members' construction
     LtmModel model{preset("cpu")};
     torch::Tensor query_points;   // [65536, 9] raw
     torch::Tensor query;          // [65536, 9] normalised
@@ -38,7 +40,6 @@ struct EncodedScene {
     EncodedScene() {
         torch::manual_seed(0);
         model->eval();
-        torch::NoGradGuard ng;
         const auto sp = points(8192, SampleStream::scene_points, true);
         query_points = points(65536, SampleStream::query_points, false);
         latents = model->encode(sp, model->scene_geometry(sp));
@@ -81,11 +82,7 @@ BENCHMARK(BM_SceneGeometry)->Arg(8192)->Arg(20000)->Unit(benchmark::kMillisecond
 // Decoder throughput (queries/s) incl. the kNN among anchors, 65536 queries per call.
 static void BM_DecodeQueries(benchmark::State &state) {
     EncodedScene e;
-    torch::NoGradGuard ng;
-    LtmModel &model = e.model;
-    const auto &qp = e.query_points;
-    const SceneLatents &lat = e.latents;
-    for (auto _ : state) benchmark::DoNotOptimize(model->predict_irradiance(qp, lat, state.range(0)).data_ptr());
+    for (auto _ : state) benchmark::DoNotOptimize(e.model->predict_irradiance(e.query_points, e.latents, state.range(0)).data_ptr());
     state.SetItemsProcessed(state.iterations() * 65536);
 }
 // arg = queries per chunk
@@ -94,12 +91,8 @@ BENCHMARK(BM_DecodeQueries)->Arg(1024)->Arg(4096)->Arg(16384)->Unit(benchmark::k
 // The same with the libtorch modules instead of FusedDecoder (the path before the fused kernel).
 static void BM_DecodeQueriesLibtorch(benchmark::State &state) {
     EncodedScene e;
-    torch::NoGradGuard ng;
-    LtmModel &model = e.model;
-    model->fused_inference = false;
-    const auto &qp = e.query_points;
-    const SceneLatents &lat = e.latents;
-    for (auto _ : state) benchmark::DoNotOptimize(model->predict_irradiance(qp, lat, state.range(0)).data_ptr());
+    e.model->fused_inference = false;
+    for (auto _ : state) benchmark::DoNotOptimize(e.model->predict_irradiance(e.query_points, e.latents, state.range(0)).data_ptr());
     state.SetItemsProcessed(state.iterations() * 65536);
 }
 BENCHMARK(BM_DecodeQueriesLibtorch)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
@@ -108,7 +101,6 @@ BENCHMARK(BM_DecodeQueriesLibtorch)->Arg(1024)->Unit(benchmark::kMillisecond)->U
 // arg 1 = FusedDecoder::forward in one call (its build + prepare excluded, reported as build_ms).
 static void BM_DecodeKernel(benchmark::State &state) {
     EncodedScene e;
-    torch::NoGradGuard ng;
     LtmModel &model = e.model;
     const SceneLatents &lat = e.latents;
     const auto &q = e.query;
@@ -133,14 +125,11 @@ BENCHMARK(BM_DecodeKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRe
 // kNN among anchors alone, 65536 queries in chunks of 1024 (as predict_irradiance).
 static void BM_DecodeKnn(benchmark::State &state) {
     EncodedScene e;
-    torch::NoGradGuard ng;
-    LtmModel &model = e.model;
-    const SceneLatents &lat = e.latents;
     const auto &q = e.query;
     for (auto _ : state)
         for (int64_t s = 0; s < q.size(0); s += 1024)
-            benchmark::DoNotOptimize(knn(q.slice(0, s, s + 1024).slice(1, 0, 3).contiguous(), lat.anchors.contiguous(),
-                                         model->cfg.decoder.n_neighbors).data_ptr());
+            benchmark::DoNotOptimize(knn(q.slice(0, s, s + 1024).slice(1, 0, 3).contiguous(), e.latents.anchors.contiguous(),
+                                         e.model->cfg.decoder.n_neighbors).data_ptr());
     state.SetItemsProcessed(state.iterations() * 65536);
 }
 BENCHMARK(BM_DecodeKnn)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);

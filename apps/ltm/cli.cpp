@@ -1,4 +1,5 @@
-// cli.cpp: the command table, common options, and the only place that catches exceptions.
+// cli.cpp: the command table, the options several commands share, and the only place that catches
+// exceptions.
 #include "cli.h"
 
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include "ltm/core/parallel.h"
 #include "ltm/core/startup.h"
 #include "ltm/render/bake.h"
+#include "ltm/render/preview.h"
 #ifdef LTM_WITH_TORCH
 #include "ltm/nn/torch_runtime.h"
 #endif
@@ -71,7 +73,7 @@ int run_cli(const std::vector<std::string> &args) {
         const Command &cmd = table[i];
         CLI::App *sub = app.add_subcommand(cmd.name, cmd.help);
         add_common_options(*sub, common[i]);
-        cmd.setup(*sub, common[i]);
+        cmd.declare(*sub);
         subs.push_back(sub);
     }
     std::vector<std::string> reversed(args.rbegin(), args.rend());   // CLI11 parses a reversed vector
@@ -108,6 +110,36 @@ int run_cli(const std::vector<std::string> &args) {
         }
     }
     return 2;
+}
+
+CLI::Option *add_scene_argument(CLI::App &sub, std::string &scene) {
+    return sub.add_option("scene", scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
+}
+
+CLI::Option *add_output_option(CLI::App &sub, std::string &output, const std::string &what) {
+    return sub.add_option("-o,--output", output, what)->required();
+}
+
+CLI::Option *add_camera_option(CLI::App &sub, std::string &camera) {
+    return sub.add_option("--camera", camera, "Camera name (default: the scene's first, else automatic)");
+}
+
+Camera choose_camera(const Scene &scene, const std::string &name, int width, int height, const std::string &where) {
+    Camera cam;
+    if (!name.empty()) {
+        bool found = false;
+        for (const auto &k : scene.cameras)
+            if (k.name == name) cam = k, found = true;
+        if (!found) LTM_THROW(where, ": no camera named '", name, "'");
+    } else if (!scene.cameras.empty()) {
+        cam = scene.cameras.front();
+    } else {
+        cam = automatic_camera(scene, 512, 512);
+        log_info("scene has no camera; using an automatic one at ", cam.eye);
+    }
+    if (width > 0) cam.width = width;
+    if (height > 0) cam.height = height;
+    return cam;
 }
 
 Shard shard_option(const std::string &flag_value) {

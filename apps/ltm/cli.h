@@ -11,6 +11,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 namespace ltm {
 struct Camera;
@@ -27,24 +28,40 @@ struct CommonOptions {
     bool quiet = false, verbose = false;
 };
 
-/// One subcommand: `setup` declares its options on `sub`, `run` executes after parsing.
+/// One subcommand as the CLI table holds it. Commands are written as command objects (below) and
+/// wrapped by make_command(); run_cli() calls `declare` once, before parsing, and `run` at most
+/// once, after a successful parse, with the common options parsed for that subcommand.
 struct Command {
     std::string name, help;
-    std::function<void(CLI::App &sub, CommonOptions &common)> setup;
+    std::function<void(CLI::App &sub)> declare;
     std::function<void(const CommonOptions &common)> run;
 };
 
-/// A command whose options are parsed into a fresh Args: `setup` declares them on `sub` (binding
-/// to fields of `a`), `run` executes with them after parsing. One Args per Command, shared by the
-/// two closures, so commands() hands out independent state each call.
+/// A command object: `Args`, a plain struct with the command's flags as fields and their defaults
+/// as initialisers, and two functions beside it in its cmd_<name>.cpp:
+///   void declare(CLI::App &sub, Args &a);              // binds options on `sub` to fields of `a`
+///   void run(const Args &a, const CommonOptions &c);   // does the work with the parsed values
+/// make_command() owns one Args per Command (shared by both closures, because the options CLI11
+/// parses write into it by reference), so each call of commands() hands out independent state.
+/// The common options (--threads, --seed, -q, -v) are run_cli()'s, never declared by a command.
+/// Free functions rather than members: run's locals (a loaded `scene`, a parsed `shard`) may then
+/// share a flag's name without shadowing it, and the body reads `a.flag` for each flag.
 template <class Args>
-Command make_command(std::string name, std::string help, std::function<void(CLI::App &, Args &, CommonOptions &)> setup,
-                     std::function<void(Args &, const CommonOptions &)> run) {
+Command make_command(std::string name, std::string help, void (*declare)(CLI::App &, Args &),
+                     void (*run)(const Args &, const CommonOptions &)) {
     auto a = std::make_shared<Args>();
-    return {std::move(name), std::move(help),
-            [a, setup = std::move(setup)](CLI::App &sub, CommonOptions &common) { setup(sub, *a, common); },
-            [a, run = std::move(run)](const CommonOptions &common) { run(*a, common); }};
+    return {std::move(name), std::move(help), [a, declare](CLI::App &sub) { declare(sub, *a); },
+            [a, run](const CommonOptions &common) { run(*a, common); }};
 }
+
+// Options several commands declare alike: one name, help text and check each, in cli.cpp.
+
+/// The required positional `scene`: a scene file or builtin:<name> (scene/scene_loader.h).
+CLI::Option *add_scene_argument(CLI::App &sub, std::string &scene);
+/// The required `-o,--output`; `what` is its help text (what the command writes there).
+CLI::Option *add_output_option(CLI::App &sub, std::string &output, const std::string &what);
+/// `--camera NAME`, as choose_camera() reads it (empty: the scene's first camera, else automatic).
+CLI::Option *add_camera_option(CLI::App &sub, std::string &camera);
 
 /// The command table (one file per command: cmd_<name>.cpp), with fresh argument state.
 std::vector<Command> commands();

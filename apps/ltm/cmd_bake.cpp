@@ -3,7 +3,6 @@
 // the run that completes the set merges them into OUT/irradiance.safetensors (E_direct [N,3],
 // E_indirect [N,3], optionally L_in [N,R²,3]) and OUT/irradiance.ply (points + irradiance).
 #include <filesystem>
-#include <memory>
 
 #include <CLI/CLI.hpp>
 
@@ -88,76 +87,78 @@ void merge_if_complete(const std::string &out, int count, const std::string &set
     write_ply(out + "/irradiance.ply", ply, opt);
     log_info("all ", count, " shard(s) done: merged into ", merged_path(out), " and ", out, "/irradiance.ply");
 }
+void declare(CLI::App &sub, BakeArgs &a) {
+    BakeSettings &s = a.settings;
+    add_scene_argument(sub, a.scene);
+    sub.add_option("--points", a.points, "Directory written by `ltm sample` (query_points.ply)")->required();
+    sub.add_option("--spp", s.spp, "Stratified samples per point")->capture_default_str();
+    sub.add_option("--max-depth", s.max_depth, "Scattering events after the point")->capture_default_str();
+    sub.add_option("--shard", a.shard, "i/N: bake only the i-th of N equal parts (default: SLURM_ARRAY_TASK_ID/COUNT, else 0/1)");
+    sub.add_flag("--bins", s.bins, "Also bake incident radiance over hemisphere bins (L_in)");
+    sub.add_option("--bin-res", s.bin_resolution, "Bins per side (R×R)")->capture_default_str();
+    sub.add_option("--bin-spp", s.bin_spp, "Samples per bin")->capture_default_str();
+    add_output_option(sub, a.output, "Output directory");
+}
+
+void run(const BakeArgs &a, const CommonOptions &common) {
+    BakeSettings s = a.settings;
+    s.seed = common.seed;
+    if (s.spp <= 0) LTM_THROW("--spp ", s.spp, ": must be > 0");
+    if (s.max_depth < 1) LTM_THROW("--max-depth ", s.max_depth, ": must be >= 1");
+    if (s.bins && (s.bin_resolution <= 0 || s.bin_resolution > 256 || s.bin_spp <= 0))
+        LTM_THROW("--bin-res/--bin-spp: need 1..256 bins per side and > 0 samples per bin");
+    const Shard shard = shard_option(a.shard);
+    const Scene scene = load_scene(a.scene);
+    const std::string ply_path = a.points + "/query_points.ply";
+    const PointSet query = read_ply(ply_path).select(query_point_columns(), ply_path);
+    const std::string meta_path = a.points + "/sample.json";
+    if (fs::exists(meta_path)) {
+        const Json meta = parse_json_file(meta_path);
+        if (meta.contains("scene_name") && meta["scene_name"] != scene.name)
+            LTM_THROW(meta_path, ": points were sampled on scene '", meta["scene_name"].get<std::string>(),
+                      "', not '", scene.name, "'");
+    }
+    const EmbreeAccel accel(scene);
+    check_points_match_scene(accel, query, ply_path);
+    const int64_t n = int64_t(query.size());
+    const std::string settings = settings_json(s, scene, n);
+    create_directories(a.output);
+    const std::string path = shard_path(a.output, shard);
+    if (fs::exists(path)) {
+        const SafetensorsFile done = read_safetensors(path);
+        const auto it = done.metadata.find("settings");
+        if (it == done.metadata.end() || it->second != settings)
+            LTM_THROW(path, ": exists with different bake settings; remove it or choose another -o");
+        log_info(path, " already baked; skipping");
+    } else {
+        PathTracerConfig cfg;
+        cfg.seed = s.seed;
+        cfg.max_depth = s.max_depth;
+        const PathTracer pt(accel, cfg);
+        const int64_t b = shard.begin(n), e = shard.end(n);
+        log_info("baking points ", b, "..", e, " of ", n, " (shard ", shard.index, "/", shard.count, ") at ", s.spp,
+                 " spp, max depth ", s.max_depth);
+        const BakedPoints baked = bake_points(pt, query, b, e, s);
+        SafetensorsFile f;
+        f.metadata["settings"] = settings;
+        f.metadata["begin"] = std::to_string(b);
+        f.metadata["end"] = std::to_string(e);
+        write_vec3s(f, "E_direct", baked.direct, e - b, 1);
+        write_vec3s(f, "E_indirect", baked.indirect, e - b, 1);
+        if (s.bins) write_vec3s(f, "L_in", baked.bins, e - b, s.bin_resolution * s.bin_resolution);
+        write_safetensors(path, f);
+        log_info("baked ", e - b, " points in ", format_duration(baked.seconds), ": ",
+                 format_count(double(e - b) / baked.seconds), " points/s, ",
+                 format_count(double(baked.rays) / baked.seconds), " rays/s -> ", path);
+    }
+    merge_if_complete(a.output, shard.count, settings, query, s);
+}
 }  // namespace
 
 Command make_bake_command() {
-    return make_command<BakeArgs>(
+    return make_command(
         "bake", "Path-trace ground-truth E_direct and E_indirect at query points (sharded, resumable)",
-        [](CLI::App &sub, BakeArgs &a, CommonOptions &) {
-            BakeSettings &s = a.settings;
-            sub.add_option("scene", a.scene, "Scene (json, obj, pbrt, gltf, glb or builtin:<name>)")->required();
-            sub.add_option("--points", a.points, "Directory written by `ltm sample` (query_points.ply)")->required();
-            sub.add_option("--spp", s.spp, "Stratified samples per point")->capture_default_str();
-            sub.add_option("--max-depth", s.max_depth, "Scattering events after the point")->capture_default_str();
-            sub.add_option("--shard", a.shard, "i/N: bake only the i-th of N equal parts (default: SLURM_ARRAY_TASK_ID/COUNT, else 0/1)");
-            sub.add_flag("--bins", s.bins, "Also bake incident radiance over hemisphere bins (L_in)");
-            sub.add_option("--bin-res", s.bin_resolution, "Bins per side (R×R)")->capture_default_str();
-            sub.add_option("--bin-spp", s.bin_spp, "Samples per bin")->capture_default_str();
-            sub.add_option("-o,--output", a.output, "Output directory")->required();
-        },
-        [](BakeArgs &a, const CommonOptions &common) {
-            BakeSettings s = a.settings;
-            s.seed = common.seed;
-            if (s.spp <= 0) LTM_THROW("--spp ", s.spp, ": must be > 0");
-            if (s.max_depth < 1) LTM_THROW("--max-depth ", s.max_depth, ": must be >= 1");
-            if (s.bins && (s.bin_resolution <= 0 || s.bin_resolution > 256 || s.bin_spp <= 0))
-                LTM_THROW("--bin-res/--bin-spp: need 1..256 bins per side and > 0 samples per bin");
-            const Shard shard = shard_option(a.shard);
-            const Scene scene = load_scene(a.scene);
-            const std::string ply_path = a.points + "/query_points.ply";
-            const PointSet query = read_ply(ply_path).select(query_point_columns(), ply_path);
-            const std::string meta_path = a.points + "/sample.json";
-            if (fs::exists(meta_path)) {
-                const Json meta = parse_json_file(meta_path);
-                if (meta.contains("scene_name") && meta["scene_name"] != scene.name)
-                    LTM_THROW(meta_path, ": points were sampled on scene '", meta["scene_name"].get<std::string>(),
-                              "', not '", scene.name, "'");
-            }
-            const EmbreeAccel accel(scene);
-            check_points_match_scene(accel, query, ply_path);
-            const int64_t n = int64_t(query.size());
-            const std::string settings = settings_json(s, scene, n);
-            create_directories(a.output);
-            const std::string path = shard_path(a.output, shard);
-            if (fs::exists(path)) {
-                const SafetensorsFile done = read_safetensors(path);
-                const auto it = done.metadata.find("settings");
-                if (it == done.metadata.end() || it->second != settings)
-                    LTM_THROW(path, ": exists with different bake settings; remove it or choose another -o");
-                log_info(path, " already baked; skipping");
-            } else {
-                PathTracerConfig cfg;
-                cfg.seed = s.seed;
-                cfg.max_depth = s.max_depth;
-                const PathTracer pt(accel, cfg);
-                const int64_t b = shard.begin(n), e = shard.end(n);
-                log_info("baking points ", b, "..", e, " of ", n, " (shard ", shard.index, "/", shard.count, ") at ", s.spp,
-                         " spp, max depth ", s.max_depth);
-                const BakedPoints baked = bake_points(pt, query, b, e, s);
-                SafetensorsFile f;
-                f.metadata["settings"] = settings;
-                f.metadata["begin"] = std::to_string(b);
-                f.metadata["end"] = std::to_string(e);
-                write_vec3s(f, "E_direct", baked.direct, e - b, 1);
-                write_vec3s(f, "E_indirect", baked.indirect, e - b, 1);
-                if (s.bins) write_vec3s(f, "L_in", baked.bins, e - b, s.bin_resolution * s.bin_resolution);
-                write_safetensors(path, f);
-                log_info("baked ", e - b, " points in ", format_duration(baked.seconds), ": ",
-                         format_count(double(e - b) / baked.seconds), " points/s, ",
-                         format_count(double(baked.rays) / baked.seconds), " rays/s -> ", path);
-            }
-            merge_if_complete(a.output, shard.count, settings, query, s);
-        });
+        declare, run);
 }
 
 }  // namespace ltm::cli

@@ -1,7 +1,6 @@
 // cmd_edit.cpp: `ltm edit in.json --move light0=1,0,0 --albedo room0_walls=0.8,0.2,0.2 -o out.json`
 // (scene/scene_edit.h). The result is validated as a scene before it is written.
 #include <filesystem>
-#include <memory>
 
 #include <CLI/CLI.hpp>
 
@@ -38,41 +37,43 @@ std::pair<std::string, std::vector<float>> parse_assignment(const std::string &s
     if (v.size() != n) LTM_THROW(option, " ", s, ": expected ", n, " numbers, got ", v.size());
     return {s.substr(0, eq), v};
 }
+void declare(CLI::App &sub, EditArgs &a) {
+    sub.add_option("scene", a.input, "Scene JSON")->required();
+    sub.add_option("--move", a.moves, "NAME=dx,dy,dz: translate mesh NAME or object NAME_* (metres; repeatable)");
+    sub.add_option("--albedo", a.albedos, "MATERIAL=r,g,b: constant albedo in [0,1] (repeatable)");
+    sub.add_option("--scale-light", a.light_scales, "MATERIAL=k: multiply an emitter's radiance (repeatable)");
+    add_output_option(sub, a.output, "Edited scene JSON");
+}
+
+void run(const EditArgs &a, const CommonOptions &) {
+    if (a.moves.empty() && a.albedos.empty() && a.light_scales.empty())
+        LTM_THROW("nothing to do: give --move, --albedo or --scale-light");
+    Json j = parse_json_file(a.input);
+    for (const auto &m : a.moves) {
+        const auto [name, v] = parse_assignment(m, 3, "--move");
+        const int n = translate_meshes(j, name, {v[0], v[1], v[2]}, a.input);
+        log_info("moved ", n, " mesh", n == 1 ? "" : "es", " of '", name, "' by ", Vec3f{v[0], v[1], v[2]}, " m");
+    }
+    for (const auto &m : a.albedos) {
+        const auto [name, v] = parse_assignment(m, 3, "--albedo");
+        set_albedo(j, name, {v[0], v[1], v[2]}, a.input);
+    }
+    for (const auto &m : a.light_scales) {
+        const auto [name, v] = parse_assignment(m, 1, "--scale-light");
+        scale_radiance(j, name, v[0], a.input);
+    }
+    // Validate the edited scene (relative files resolve against the input's folder) before writing.
+    const std::string base = std::filesystem::path(a.input).parent_path().string();
+    validate_scene(scene_from_json(j, a.input + " (edited)", base.empty() ? "." : base), a.input + " (edited)");
+    write_file_atomic(a.output, dump_json_compact(OrderedJson::parse(j.dump())) + "\n");
+    log_info("wrote ", a.output);
+}
 }  // namespace
 
 Command make_edit_command() {
-    return make_command<EditArgs>(
+    return make_command(
         "edit", "Edit a scene JSON: move a light or object, change an albedo, scale a light (no retraining needed)",
-        [](CLI::App &sub, EditArgs &a, CommonOptions &) {
-            sub.add_option("scene", a.input, "Scene JSON")->required();
-            sub.add_option("--move", a.moves, "NAME=dx,dy,dz: translate mesh NAME or object NAME_* (metres; repeatable)");
-            sub.add_option("--albedo", a.albedos, "MATERIAL=r,g,b: constant albedo in [0,1] (repeatable)");
-            sub.add_option("--scale-light", a.light_scales, "MATERIAL=k: multiply an emitter's radiance (repeatable)");
-            sub.add_option("-o,--output", a.output, "Edited scene JSON")->required();
-        },
-        [](EditArgs &a, const CommonOptions &) {
-            if (a.moves.empty() && a.albedos.empty() && a.light_scales.empty())
-                LTM_THROW("nothing to do: give --move, --albedo or --scale-light");
-            Json j = parse_json_file(a.input);
-            for (const auto &m : a.moves) {
-                const auto [name, v] = parse_assignment(m, 3, "--move");
-                const int n = translate_meshes(j, name, {v[0], v[1], v[2]}, a.input);
-                log_info("moved ", n, " mesh", n == 1 ? "" : "es", " of '", name, "' by ", Vec3f{v[0], v[1], v[2]}, " m");
-            }
-            for (const auto &m : a.albedos) {
-                const auto [name, v] = parse_assignment(m, 3, "--albedo");
-                set_albedo(j, name, {v[0], v[1], v[2]}, a.input);
-            }
-            for (const auto &m : a.light_scales) {
-                const auto [name, v] = parse_assignment(m, 1, "--scale-light");
-                scale_radiance(j, name, v[0], a.input);
-            }
-            // Validate the edited scene (relative files resolve against the input's folder) before writing.
-            const std::string base = std::filesystem::path(a.input).parent_path().string();
-            validate_scene(scene_from_json(j, a.input + " (edited)", base.empty() ? "." : base), a.input + " (edited)");
-            write_file_atomic(a.output, dump_json_compact(OrderedJson::parse(j.dump())) + "\n");
-            log_info("wrote ", a.output);
-        });
+        declare, run);
 }
 
 }  // namespace ltm::cli

@@ -26,99 +26,102 @@ struct EvalArgs {
     PhysicsCheckOptions physics;
     bool no_grids = false, run_physics = false, physics_only = false;
 };
+
+void declare(CLI::App &sub, EvalArgs &a) {
+    sub.add_option("--model", a.model, "Weights (.safetensors from ltm export)")->required();
+    sub.add_option("--ablation", a.ablations, "More models to compare: NAME=weights.safetensors (repeatable)");
+    sub.add_option("--scenes", a.scenes, "Generator seed ranges A:B and/or scene files (keep seeds disjoint from training)")
+        ->required();
+    sub.add_option("--gen-config", a.gen_config, "Generator config for seed ranges (default: built-in)");
+    sub.add_option("--views", a.opt.views, "Views per scene (scene camera turned by 360°/views)")->capture_default_str();
+    sub.add_option("--width", a.opt.width, "View width")->capture_default_str()->check(CLI::Range(16, 4096));
+    sub.add_option("--height", a.opt.height, "View height")->capture_default_str()->check(CLI::Range(16, 4096));
+    sub.add_option("--ref-spp", a.opt.ref_spp, "Reference samples per pixel")->capture_default_str();
+    sub.add_option("--baseline-spp", a.opt.baseline_spp, "PT baseline samples per pixel (paper: 64)")->capture_default_str();
+    sub.add_option("--ref-cache", a.opt.ref_cache_dir,
+                   "Keep references in this directory and reuse them when scene, view, spp and seed match");
+    sub.add_option("--gi-stride", a.opt.gi_stride,
+                   "Also evaluate each model with E+ decoded on every N-th pixel and interpolated (rows model:NAME/giN)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16));
+    sub.add_flag("--no-grids", a.no_grids, "Skip the PNG grids");
+    sub.add_flag("--physics", a.run_physics,
+                 "Also run the physics checks (emission x0.25/x4, unit x0.1/x10, blue room shells, furnace box): "
+                 "physics.json, physics.md");
+    sub.add_flag("--physics-only", a.physics_only, "Only the physics checks (no Table 1)");
+    sub.add_option("--physics-size", a.physics.width, "Physics checks: square G-buffer size")
+        ->capture_default_str()
+        ->check(CLI::Range(8, 1024));
+    sub.add_option("--physics-spp", a.physics.ref_spp, "Physics checks: reference samples per pixel")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 20));
+    add_output_option(sub, a.output, "Output directory");
+}
+
+void run(const EvalArgs &a, const CommonOptions &common) {
+    EvalOptions opt = a.opt;
+    opt.seed = common.seed;
+    if (opt.views < 1) LTM_THROW("--views ", opt.views, ": must be >= 1");
+    if (opt.ref_spp < 1 || opt.baseline_spp < 1) LTM_THROW("--ref-spp/--baseline-spp must be >= 1");
+    opt.out_dir = a.no_grids ? "" : a.output;
+    std::vector<EvalModel> models;
+    models.push_back({"ours", a.model, load_model(a.model).model});
+    for (const auto &spec : a.ablations) {
+        const size_t eq = spec.find('=');
+        if (eq == std::string::npos || eq == 0) LTM_THROW("--ablation ", spec, ": expected NAME=weights.safetensors");
+        models.push_back({spec.substr(0, eq), spec.substr(eq + 1), load_model(spec.substr(eq + 1)).model});
+    }
+    // Scenes: seed ranges are generated in memory, files are loaded.
+    const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
+    std::vector<EvalScene> scenes;
+    for (const auto &s : a.scenes) {
+        if (s.find(':') != std::string::npos && !std::filesystem::exists(s)) {
+            const auto [lo, hi] = parse_seed_range(s, "--scenes");
+            for (uint64_t seed = lo; seed < hi; ++seed)
+                scenes.push_back({"seed-" + std::to_string(seed), generate_indoor(gen, seed).scene});
+        } else {
+            Scene sc = load_scene(s);
+            for (const auto &w : scene_range_warnings(sc, models.empty() || models.front().model->cfg.physics.length_scale))
+                log_warn(s, ": ", w);
+            scenes.push_back({std::filesystem::path(s).stem().string(), std::move(sc)});
+        }
+    }
+    if (scenes.empty()) LTM_THROW("--scenes: no scenes");
+    create_directories(a.output);
+    if (a.run_physics || a.physics_only) {
+        PhysicsCheckOptions po = a.physics;
+        po.height = po.width;
+        po.seed = common.seed, po.ref_cache_dir = opt.ref_cache_dir, po.exclude_enclosed = opt.exclude_enclosed;
+        const PhysicsReport pr = run_physics_checks(scenes, models, po);
+        OrderedJson j = pr.to_json();
+        j["models"] = OrderedJson::object();
+        for (const auto &m : models) j["models"][m.name] = m.path;
+        write_file_atomic(a.output + "/physics.json", j.dump(2) + "\n");
+        const std::string table = pr.table_markdown();
+        write_file_atomic(a.output + "/physics.md", table);
+        std::fprintf(stderr, "%s", table.c_str());
+        log_info("wrote ", a.output, "/physics.json, physics.md");
+        if (a.physics_only) return;
+    }
+    const EvalReport r = run_evaluation(scenes, models, opt);
+    if (r.views.empty()) LTM_THROW("eval: no view saw any surface");
+    OrderedJson j = r.to_json();
+    j["model"] = a.model;
+    j["ablations"] = a.ablations;
+    j["scenes"] = a.scenes;
+    j["threads"] = common.threads;
+    write_file_atomic(a.output + "/report.json", j.dump(2) + "\n");
+    const std::string table = r.table_markdown();
+    write_file_atomic(a.output + "/table.md", table);
+    std::fprintf(stderr, "%s", table.c_str());
+    log_info("wrote ", a.output, "/report.json, table.md", a.no_grids ? "" : " and grids");
+}
 }  // namespace
 
 Command make_eval_command() {
-    return make_command<EvalArgs>(
+    return make_command(
         "eval", "Evaluate the model against path tracing on held-out scenes (report.json, table.md, grids)",
-        [](CLI::App &sub, EvalArgs &a, CommonOptions &) {
-            sub.add_option("--model", a.model, "Weights (.safetensors from ltm export)")->required();
-            sub.add_option("--ablation", a.ablations, "More models to compare: NAME=weights.safetensors (repeatable)");
-            sub.add_option("--scenes", a.scenes, "Generator seed ranges A:B and/or scene files (keep seeds disjoint from training)")
-                ->required();
-            sub.add_option("--gen-config", a.gen_config, "Generator config for seed ranges (default: built-in)");
-            sub.add_option("--views", a.opt.views, "Views per scene (scene camera turned by 360°/views)")->capture_default_str();
-            sub.add_option("--width", a.opt.width, "View width")->capture_default_str()->check(CLI::Range(16, 4096));
-            sub.add_option("--height", a.opt.height, "View height")->capture_default_str()->check(CLI::Range(16, 4096));
-            sub.add_option("--ref-spp", a.opt.ref_spp, "Reference samples per pixel")->capture_default_str();
-            sub.add_option("--baseline-spp", a.opt.baseline_spp, "PT baseline samples per pixel (paper: 64)")->capture_default_str();
-            sub.add_option("--ref-cache", a.opt.ref_cache_dir,
-                           "Keep references in this directory and reuse them when scene, view, spp and seed match");
-            sub.add_option("--gi-stride", a.opt.gi_stride,
-                           "Also evaluate each model with E+ decoded on every N-th pixel and interpolated (rows model:NAME/giN)")
-                ->capture_default_str()
-                ->check(CLI::Range(1, 16));
-            sub.add_flag("--no-grids", a.no_grids, "Skip the PNG grids");
-            sub.add_flag("--physics", a.run_physics,
-                         "Also run the physics checks (emission x0.25/x4, unit x0.1/x10, blue room shells, furnace box): "
-                         "physics.json, physics.md");
-            sub.add_flag("--physics-only", a.physics_only, "Only the physics checks (no Table 1)");
-            sub.add_option("--physics-size", a.physics.width, "Physics checks: square G-buffer size")
-                ->capture_default_str()
-                ->check(CLI::Range(8, 1024));
-            sub.add_option("--physics-spp", a.physics.ref_spp, "Physics checks: reference samples per pixel")
-                ->capture_default_str()
-                ->check(CLI::Range(1, 1 << 20));
-            sub.add_option("-o,--output", a.output, "Output directory")->required();
-        },
-        [](EvalArgs &a, const CommonOptions &common) {
-            EvalOptions opt = a.opt;
-            opt.seed = common.seed;
-            if (opt.views < 1) LTM_THROW("--views ", opt.views, ": must be >= 1");
-            if (opt.ref_spp < 1 || opt.baseline_spp < 1) LTM_THROW("--ref-spp/--baseline-spp must be >= 1");
-            opt.out_dir = a.no_grids ? "" : a.output;
-            std::vector<EvalModel> models;
-            models.push_back({"ours", a.model, load_model(a.model).model});
-            for (const auto &spec : a.ablations) {
-                const size_t eq = spec.find('=');
-                if (eq == std::string::npos || eq == 0) LTM_THROW("--ablation ", spec, ": expected NAME=weights.safetensors");
-                models.push_back({spec.substr(0, eq), spec.substr(eq + 1), load_model(spec.substr(eq + 1)).model});
-            }
-            // Scenes: seed ranges are generated in memory, files are loaded.
-            const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
-            std::vector<EvalScene> scenes;
-            for (const auto &s : a.scenes) {
-                if (s.find(':') != std::string::npos && !std::filesystem::exists(s)) {
-                    const auto [lo, hi] = parse_seed_range(s, "--scenes");
-                    for (uint64_t seed = lo; seed < hi; ++seed)
-                        scenes.push_back({"seed-" + std::to_string(seed), generate_indoor(gen, seed).scene});
-                } else {
-                    Scene sc = load_scene(s);
-                    for (const auto &w : scene_range_warnings(sc, models.empty() || models.front().model->cfg.physics.length_scale))
-                        log_warn(s, ": ", w);
-                    scenes.push_back({std::filesystem::path(s).stem().string(), std::move(sc)});
-                }
-            }
-            if (scenes.empty()) LTM_THROW("--scenes: no scenes");
-            create_directories(a.output);
-            if (a.run_physics || a.physics_only) {
-                PhysicsCheckOptions po = a.physics;
-                po.height = po.width;
-                po.seed = common.seed, po.ref_cache_dir = opt.ref_cache_dir, po.exclude_enclosed = opt.exclude_enclosed;
-                const PhysicsReport pr = run_physics_checks(scenes, models, po);
-                OrderedJson j = pr.to_json();
-                j["models"] = OrderedJson::object();
-                for (const auto &m : models) j["models"][m.name] = m.path;
-                write_file_atomic(a.output + "/physics.json", j.dump(2) + "\n");
-                const std::string table = pr.table_markdown();
-                write_file_atomic(a.output + "/physics.md", table);
-                std::fprintf(stderr, "%s", table.c_str());
-                log_info("wrote ", a.output, "/physics.json, physics.md");
-                if (a.physics_only) return;
-            }
-            const EvalReport r = run_evaluation(scenes, models, opt);
-            if (r.views.empty()) LTM_THROW("eval: no view saw any surface");
-            OrderedJson j = r.to_json();
-            j["model"] = a.model;
-            j["ablations"] = a.ablations;
-            j["scenes"] = a.scenes;
-            j["threads"] = common.threads;
-            write_file_atomic(a.output + "/report.json", j.dump(2) + "\n");
-            const std::string table = r.table_markdown();
-            write_file_atomic(a.output + "/table.md", table);
-            std::fprintf(stderr, "%s", table.c_str());
-            log_info("wrote ", a.output, "/report.json, table.md", a.no_grids ? "" : " and grids");
-        });
+        declare, run);
 }
 
 }  // namespace ltm::cli

@@ -1,6 +1,5 @@
 // cmd_export.cpp: `ltm export runs/NAME/best.ltmckpt -o models/ltm-cpu.safetensors [--half]`;
 // also converts a weights file (e.g. F32 → F16 for shipping).
-#include <memory>
 
 #include <CLI/CLI.hpp>
 
@@ -19,35 +18,37 @@ struct ExportArgs {
 bool ends_with(const std::string &s, const std::string &suffix) {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
+void declare(CLI::App &sub, ExportArgs &a) {
+    sub.add_option("input", a.input, "Checkpoint (.ltmckpt) or weights (.safetensors)")->required();
+    add_output_option(sub, a.output, "Weights file (.safetensors)");
+    sub.add_flag("--half", a.half, "Store F16 (half the size; inference converts back to F32)");
+    sub.add_option("--note", a.note, "Free text stored in the metadata ('note'), e.g. provenance");
+}
+
+void run(const ExportArgs &a, const CommonOptions &) {
+    std::map<std::string, std::string> meta;
+    LtmModel model{nullptr};
+    if (ends_with(a.input, ".safetensors")) {
+        model = load_weights(a.input, &meta);
+        for (const char *k : {"format", "format_version", "arch_version", "config"}) meta.erase(k);
+    } else {
+        const TrainState st = read_checkpoint_state(a.input);
+        const ModelConfig mc = ModelConfig::from_json(parse_json(st.model_config, a.input), a.input);
+        model = LtmModel(mc);
+        load_checkpoint_model(a.input, model);
+        meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
+    }
+    if (!a.note.empty()) meta["note"] = a.note;
+    save_weights(a.output, model, meta, a.half);
+    log_info("exported ", model->n_parameters(), " parameters", meta.count("step") ? " (step " + meta["step"] + ")" : "",
+             a.half ? " as F16" : "", " -> ", a.output);
+}
 }  // namespace
 
 Command make_export_command() {
-    return make_command<ExportArgs>(
+    return make_command(
         "export", "Export a checkpoint's (or convert a weights file's) weights to safetensors, config in the metadata",
-        [](CLI::App &sub, ExportArgs &a, CommonOptions &) {
-            sub.add_option("input", a.input, "Checkpoint (.ltmckpt) or weights (.safetensors)")->required();
-            sub.add_option("-o,--output", a.output, "Weights file (.safetensors)")->required();
-            sub.add_flag("--half", a.half, "Store F16 (half the size; inference converts back to F32)");
-            sub.add_option("--note", a.note, "Free text stored in the metadata ('note'), e.g. provenance");
-        },
-        [](ExportArgs &a, const CommonOptions &) {
-            std::map<std::string, std::string> meta;
-            LtmModel model{nullptr};
-            if (ends_with(a.input, ".safetensors")) {
-                model = load_weights(a.input, &meta);
-                for (const char *k : {"format", "format_version", "arch_version", "config"}) meta.erase(k);
-            } else {
-                const TrainState st = read_checkpoint_state(a.input);
-                const ModelConfig mc = ModelConfig::from_json(parse_json(st.model_config, a.input), a.input);
-                model = LtmModel(mc);
-                load_checkpoint_model(a.input, model);
-                meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
-            }
-            if (!a.note.empty()) meta["note"] = a.note;
-            save_weights(a.output, model, meta, a.half);
-            log_info("exported ", model->n_parameters(), " parameters", meta.count("step") ? " (step " + meta["step"] + ")" : "",
-                     a.half ? " as F16" : "", " -> ", a.output);
-        });
+        declare, run);
 }
 
 }  // namespace ltm::cli

@@ -40,52 +40,56 @@ void describe_safetensors(const std::string &path) {
     }
     for (const auto &[k, v] : f.metadata) std::cout << "meta " << k << "  " << v.substr(0, 400) << "\n";
 }
+
+struct InfoArgs {
+    std::string input;
+};
+
+void declare(CLI::App &sub, InfoArgs &a) {
+    sub.add_option("input", a.input, "Scene file")->required();
+}
+
+void run(const InfoArgs &a, const CommonOptions &) {
+    const std::string ext = file_extension(a.input);
+    if (ext == "safetensors") return describe_safetensors(a.input);
+    if (ext == "ltmckpt") {
+#ifdef LTM_WITH_TORCH
+        const TrainState st = read_checkpoint_state(a.input);
+        std::cout << "checkpoint " << a.input << "\nstep       " << st.step << "\nbest val   " << st.best_val
+                  << "\nmodel      " << st.model_config << "\ntraining   " << st.train_config << "\n";
+        return;
+#else
+        LTM_THROW(a.input, ": checkpoints need a build with libtorch (LTM_WITH_TORCH=ON)");
+#endif
+    }
+    ValidateOptions opt;
+    opt.require_emitter = false;
+    const Scene s = load_scene(a.input, opt);
+    const Bounds3f b = s.bounds();
+    double emissive_area = 0;
+    for (const auto &m : s.meshes)
+        if (s.materials[size_t(m.material)].is_emissive())
+            for (size_t t = 0; t < m.n_triangles(); ++t) emissive_area += m.area(t);
+    std::cout << "scene      " << s.name << "\n"
+              << "meshes     " << s.meshes.size() << "\n"
+              << "triangles  " << s.n_triangles() << "\n"
+              << "materials  " << s.materials.size() << "\n"
+              << "area       " << s.total_area() << " m² (" << emissive_area << " m² emissive)\n"
+              << "bounds     " << b.lo << " - " << b.hi << " m\n"
+              << "cameras    " << s.cameras.size() << "\n";
+    if (!s.has_emitter()) std::cout << "warning    no emitter: this scene renders black\n";
+    // The shipped models are unit-invariant: only the proportions are compared.
+    const auto range = scene_range_warnings(s, /*unit_free=*/true);
+    std::cout << "range      " << (range.empty() ? "inside the training houses' proportions (footprint / height 0.75-4.6, y up)" : range[0])
+              << "\n";
+    if (!s.metadata.empty()) std::cout << "metadata   " << s.metadata.dump().substr(0, 200) << "\n";
+}
 }  // namespace
 
 Command make_info_command() {
-    auto path = std::make_shared<std::string>();
-    Command c;
-    c.name = "info";
-    c.help = "Describe a scene (json, obj, builtin:<name>), weights/records (.safetensors) or a checkpoint (.ltmckpt)";
-    c.setup = [path](CLI::App &sub, CommonOptions &) {
-        sub.add_option("input", *path, "Scene file")->required();
-    };
-    c.run = [path](const CommonOptions &) {
-        const std::string ext = file_extension(*path);
-        if (ext == "safetensors") return describe_safetensors(*path);
-        if (ext == "ltmckpt") {
-#ifdef LTM_WITH_TORCH
-            const TrainState st = read_checkpoint_state(*path);
-            std::cout << "checkpoint " << *path << "\nstep       " << st.step << "\nbest val   " << st.best_val
-                      << "\nmodel      " << st.model_config << "\ntraining   " << st.train_config << "\n";
-            return;
-#else
-            LTM_THROW(*path, ": checkpoints need a build with libtorch (LTM_WITH_TORCH=ON)");
-#endif
-        }
-        ValidateOptions opt;
-        opt.require_emitter = false;
-        const Scene s = load_scene(*path, opt);
-        const Bounds3f b = s.bounds();
-        double emissive_area = 0;
-        for (const auto &m : s.meshes)
-            if (s.materials[size_t(m.material)].is_emissive())
-                for (size_t t = 0; t < m.n_triangles(); ++t) emissive_area += m.area(t);
-        std::cout << "scene      " << s.name << "\n"
-                  << "meshes     " << s.meshes.size() << "\n"
-                  << "triangles  " << s.n_triangles() << "\n"
-                  << "materials  " << s.materials.size() << "\n"
-                  << "area       " << s.total_area() << " m² (" << emissive_area << " m² emissive)\n"
-                  << "bounds     " << b.lo << " - " << b.hi << " m\n"
-                  << "cameras    " << s.cameras.size() << "\n";
-        if (!s.has_emitter()) std::cout << "warning    no emitter: this scene renders black\n";
-        // The shipped models are unit-invariant: only the proportions are compared.
-        const auto range = scene_range_warnings(s, /*unit_free=*/true);
-        std::cout << "range      " << (range.empty() ? "inside the training houses' proportions (footprint / height 0.75-4.6, y up)" : range[0])
-                  << "\n";
-        if (!s.metadata.empty()) std::cout << "metadata   " << s.metadata.dump().substr(0, 200) << "\n";
-    };
-    return c;
+    return make_command(
+        "info", "Describe a scene (json, obj, builtin:<name>), weights/records (.safetensors) or a checkpoint (.ltmckpt)",
+        declare, run);
 }
 
 }  // namespace ltm::cli

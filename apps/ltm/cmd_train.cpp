@@ -72,87 +72,89 @@ DistSettings settings_from_environment(double timeout_s) {
     s.master_addr = addr && *addr ? addr : "127.0.0.1";
     return s;
 }
+void declare(CLI::App &sub, TrainArgs &a) {
+    sub.add_option("--model", a.model, "Model config (configs/model/{tiny,cpu,paper}.json); default with --init: the weights' own");
+    sub.add_option("--data", a.data, "Dataset directory (ltm dataset build); repeat to train on several")->required();
+    sub.add_option("--val-data", a.val_data,
+                   "Validation dataset directory (repeatable); with it every --data record trains and val_fraction is unused");
+    sub.add_option("--out", a.out, "Run directory: log.jsonl, last/best.ltmckpt")->required();
+    sub.add_option("--config", a.config, "Training config JSON (default: built-in defaults, configs/train/default.json)");
+    sub.add_option("--set", a.overrides, "Override a training key, e.g. --set lr=5e-4");
+    sub.add_option("--steps", a.steps, "Shorthand for --set steps=N");
+    sub.add_flag("--resume", a.resume, "Continue the run in --out from last.ltmckpt");
+    sub.add_option("--init", a.init, "Start from these weights (.safetensors; fresh optimizer), e.g. to fine-tune");
+    sub.add_flag("--start-at-prior", a.start_at_prior,
+                 "Zero the decoder's output layer after --init (or at a fresh start): the model starts as its prior "
+                 "(E⁺ = output scale, e.g. physics.prior_field \"transport\") and learns the correction");
+    sub.add_option("--head", a.head,
+                   "Shorthand for --set head=...: irradiance (E⁺) or directional (L_in over hemisphere bins; adds a default "
+                   "\"directional\" section to a model config without one)")
+        ->check(CLI::IsMember({"irradiance", "directional"}));
+    sub.add_option("--freeze", a.freeze, "Shorthand for --set freeze=...: encoder keeps the embedding and PTv3 weights")
+        ->check(CLI::IsMember({"none", "encoder"}));
+    sub.add_option("--device", a.device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
+    sub.add_option("--nproc", a.nproc,
+                   "Data-parallel ranks to launch on this machine (torchrun's variables; scenes_per_step must be a "
+                   "multiple); a process started with WORLD_SIZE/RANK set joins that group instead")
+        ->capture_default_str()->check(CLI::Range(1, 256));
+    sub.add_option("--dist-timeout", a.dist_timeout, "Seconds to wait for the other ranks (rendezvous, each collective)")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+}
+
+void run(const TrainArgs &a, const CommonOptions &common) {
+    if (a.nproc > 1) {
+        if (std::getenv("WORLD_SIZE")) LTM_THROW("--nproc: this process is already a rank (WORLD_SIZE is set)");
+        const int cores = common.threads > 0 ? common.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+        launch_local_ranks(a.nproc, rank_args(a, common, std::max(1, cores / a.nproc)));
+        return;
+    }
+    const DistSettings dist = settings_from_environment(a.dist_timeout);
+    // Rank 0 speaks for the group; the others say only warnings and errors.
+    if (dist.rank != 0 && !common.verbose) set_log_level(LogLevel::quiet);
+    Json cfg = a.config.empty() ? Json(TrainConfig{}.to_json()) : parse_json_file(a.config);
+    cfg["seed"] = common.seed;
+    if (a.steps > 0) cfg["steps"] = a.steps;
+    if (!a.head.empty()) cfg["head"] = a.head;
+    if (!a.freeze.empty()) cfg["freeze"] = a.freeze;
+    for (const auto &o : a.overrides) apply_json_override(cfg, o);
+    const TrainConfig tc = TrainConfig::from_json(cfg, a.config.empty() ? "training config" : a.config);
+    // The model config: --model, else a resumed run's own, else the --init weights'.
+    const std::string model = !a.model.empty() || !a.resume ? a.model : a.out + "/model.json";
+    if (model.empty() && a.init.empty()) LTM_THROW("--model is required (or --init, whose weights carry their config)");
+    ModelConfig mc = model.empty() ? load_weights(a.init)->cfg : ModelConfig::from_file(model);
+    if (tc.head == "directional" && !mc.directional) {
+        mc.directional = DirectionalConfig{};
+        log_info("model '", mc.name, "': adding a directional head with the default \"directional\" section");
+    }
+    if (a.device == "cuda" && !torch::cuda::is_available())
+        LTM_THROW("--device cuda: this libtorch has no CUDA device (", torch::cuda::device_count(), " found)");
+    Trainer trainer(mc, tc, a.data, a.out, a.device == "cuda" ? torch::Device(torch::kCUDA) : torch::Device(torch::kCPU),
+                    a.val_data);
+    log_info("model '", mc.name, "': ", trainer.model()->n_parameters(), " parameters");
+    if (!a.init.empty()) {
+        if (a.resume) LTM_THROW("--init and --resume exclude each other (a resumed run has its own weights)");
+        trainer.init_weights(a.init);
+        log_info("initialised from ", a.init);
+    }
+    if (a.start_at_prior) {
+        if (a.resume) LTM_THROW("--start-at-prior and --resume exclude each other (a resumed run has its own weights)");
+        trainer.model()->decoder->start_at_prior();
+        log_info("decoder output zeroed: the model starts as its prior");
+    }
+    if (dist.world_size > 1) {
+        if (a.device != "cpu")
+            LTM_THROW("--device ", a.device, " with WORLD_SIZE ", dist.world_size,
+                      ": data-parallel training runs on Gloo (CPU tensors); this libtorch has no NCCL backend");
+        trainer.set_communicator(std::make_shared<Communicator>(dist, trainer.fingerprint()));
+    }
+    trainer.run(a.resume);
+}
 }  // namespace
 
 Command make_train_command() {
-    return make_command<TrainArgs>(
+    return make_command(
         "train", "Train the light transport model on a dataset (checkpoints, validation, exact resume)",
-        [](CLI::App &sub, TrainArgs &a, CommonOptions &) {
-            sub.add_option("--model", a.model, "Model config (configs/model/{tiny,cpu,paper}.json); default with --init: the weights' own");
-            sub.add_option("--data", a.data, "Dataset directory (ltm dataset build); repeat to train on several")->required();
-            sub.add_option("--val-data", a.val_data,
-                           "Validation dataset directory (repeatable); with it every --data record trains and val_fraction is unused");
-            sub.add_option("--out", a.out, "Run directory: log.jsonl, last/best.ltmckpt")->required();
-            sub.add_option("--config", a.config, "Training config JSON (default: built-in defaults, configs/train/default.json)");
-            sub.add_option("--set", a.overrides, "Override a training key, e.g. --set lr=5e-4");
-            sub.add_option("--steps", a.steps, "Shorthand for --set steps=N");
-            sub.add_flag("--resume", a.resume, "Continue the run in --out from last.ltmckpt");
-            sub.add_option("--init", a.init, "Start from these weights (.safetensors; fresh optimizer), e.g. to fine-tune");
-            sub.add_flag("--start-at-prior", a.start_at_prior,
-                         "Zero the decoder's output layer after --init (or at a fresh start): the model starts as its prior "
-                         "(E⁺ = output scale, e.g. physics.prior_field \"transport\") and learns the correction");
-            sub.add_option("--head", a.head,
-                           "Shorthand for --set head=...: irradiance (E⁺) or directional (L_in over hemisphere bins; adds a default "
-                           "\"directional\" section to a model config without one)")
-                ->check(CLI::IsMember({"irradiance", "directional"}));
-            sub.add_option("--freeze", a.freeze, "Shorthand for --set freeze=...: encoder keeps the embedding and PTv3 weights")
-                ->check(CLI::IsMember({"none", "encoder"}));
-            sub.add_option("--device", a.device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
-            sub.add_option("--nproc", a.nproc,
-                           "Data-parallel ranks to launch on this machine (torchrun's variables; scenes_per_step must be a "
-                           "multiple); a process started with WORLD_SIZE/RANK set joins that group instead")
-                ->capture_default_str()->check(CLI::Range(1, 256));
-            sub.add_option("--dist-timeout", a.dist_timeout, "Seconds to wait for the other ranks (rendezvous, each collective)")
-                ->capture_default_str()->check(CLI::PositiveNumber);
-        },
-        [](TrainArgs &a, const CommonOptions &common) {
-            if (a.nproc > 1) {
-                if (std::getenv("WORLD_SIZE")) LTM_THROW("--nproc: this process is already a rank (WORLD_SIZE is set)");
-                const int cores = common.threads > 0 ? common.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-                launch_local_ranks(a.nproc, rank_args(a, common, std::max(1, cores / a.nproc)));
-                return;
-            }
-            const DistSettings dist = settings_from_environment(a.dist_timeout);
-            // Rank 0 speaks for the group; the others say only warnings and errors.
-            if (dist.rank != 0 && !common.verbose) set_log_level(LogLevel::quiet);
-            Json cfg = a.config.empty() ? Json(TrainConfig{}.to_json()) : parse_json_file(a.config);
-            cfg["seed"] = common.seed;
-            if (a.steps > 0) cfg["steps"] = a.steps;
-            if (!a.head.empty()) cfg["head"] = a.head;
-            if (!a.freeze.empty()) cfg["freeze"] = a.freeze;
-            for (const auto &o : a.overrides) apply_json_override(cfg, o);
-            const TrainConfig tc = TrainConfig::from_json(cfg, a.config.empty() ? "training config" : a.config);
-            // The model config: --model, else a resumed run's own, else the --init weights'.
-            if (a.model.empty() && a.resume) a.model = a.out + "/model.json";
-            if (a.model.empty() && a.init.empty()) LTM_THROW("--model is required (or --init, whose weights carry their config)");
-            ModelConfig mc = a.model.empty() ? load_weights(a.init)->cfg : ModelConfig::from_file(a.model);
-            if (tc.head == "directional" && !mc.directional) {
-                mc.directional = DirectionalConfig{};
-                log_info("model '", mc.name, "': adding a directional head with the default \"directional\" section");
-            }
-            if (a.device == "cuda" && !torch::cuda::is_available())
-                LTM_THROW("--device cuda: this libtorch has no CUDA device (", torch::cuda::device_count(), " found)");
-            Trainer trainer(mc, tc, a.data, a.out, a.device == "cuda" ? torch::Device(torch::kCUDA) : torch::Device(torch::kCPU),
-                            a.val_data);
-            log_info("model '", mc.name, "': ", trainer.model()->n_parameters(), " parameters");
-            if (!a.init.empty()) {
-                if (a.resume) LTM_THROW("--init and --resume exclude each other (a resumed run has its own weights)");
-                trainer.init_weights(a.init);
-                log_info("initialised from ", a.init);
-            }
-            if (a.start_at_prior) {
-                if (a.resume) LTM_THROW("--start-at-prior and --resume exclude each other (a resumed run has its own weights)");
-                trainer.model()->decoder->start_at_prior();
-                log_info("decoder output zeroed: the model starts as its prior");
-            }
-            if (dist.world_size > 1) {
-                if (a.device != "cpu")
-                    LTM_THROW("--device ", a.device, " with WORLD_SIZE ", dist.world_size,
-                              ": data-parallel training runs on Gloo (CPU tensors); this libtorch has no NCCL backend");
-                trainer.set_communicator(std::make_shared<Communicator>(dist, trainer.fingerprint()));
-            }
-            trainer.run(a.resume);
-        });
+        declare, run);
 }
 
 }  // namespace ltm::cli

@@ -178,30 +178,31 @@ Vec2f JsonObject::get_range(const std::string &key, Vec2f fallback) {
     return r;
 }
 
-std::vector<float> JsonObject::require_float_array(const std::string &key) {
-    const Json &v = require(key);
-    if (!v.is_array()) LTM_THROW(where(key), ": expected an array of numbers, got ", type_name(v));
-    std::vector<float> out;
+namespace {
+// The array `v` at `at`, each element accepted by `is` (else "expected <one>") and read by `get`.
+template <class T, class Is, class Get>
+std::vector<T> read_array(const Json &v, const std::string &at, const char *many, const char *one, Is is, Get get) {
+    if (!v.is_array()) LTM_THROW(at, ": expected an array of ", many, ", got ", type_name(v));
+    std::vector<T> out;
     out.reserve(v.size());
     for (size_t i = 0; i < v.size(); ++i) {
-        if (!v[i].is_number())   // fast path check; json_to_float repeats it with the location
-            LTM_THROW(where(key), "/", i, ": expected a number, got ", type_name(v[i]));
-        out.push_back(json_to_float(v[i], where(key)));
+        if (!is(v[i])) LTM_THROW(at, "/", i, ": expected ", one, ", got ", type_name(v[i]));
+        out.push_back(get(v[i]));
     }
     return out;
 }
+}  // namespace
+
+std::vector<float> JsonObject::require_float_array(const std::string &key) {
+    // is_number() is the fast path check; json_to_float repeats it with the location.
+    return read_array<float>(require(key), where(key), "numbers", "a number", [](const Json &x) { return x.is_number(); },
+                             [&](const Json &x) { return json_to_float(x, where(key)); });
+}
 
 std::vector<int64_t> JsonObject::require_int_array(const std::string &key) {
-    const Json &v = require(key);
-    if (!v.is_array()) LTM_THROW(where(key), ": expected an array of integers, got ", type_name(v));
-    std::vector<int64_t> out;
-    out.reserve(v.size());
-    for (size_t i = 0; i < v.size(); ++i) {
-        if (!v[i].is_number_integer())
-            LTM_THROW(where(key), "/", i, ": expected an integer, got ", type_name(v[i]));
-        out.push_back(v[i].get<int64_t>());
-    }
-    return out;
+    return read_array<int64_t>(require(key), where(key), "integers", "an integer",
+                               [](const Json &x) { return x.is_number_integer(); },
+                               [](const Json &x) { return x.get<int64_t>(); });
 }
 
 JsonObject JsonObject::require_object(const std::string &key) {

@@ -142,25 +142,24 @@ std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, 
     }
 }
 
-PointSet to_scene_points(const std::vector<SurfaceSample> &samples) {
-    PointSet ps(scene_point_columns(), samples.size());
+namespace {
+// p, n, albedo in columns 0..8 (the query point layout), then emission when `columns` is the scene
+// point layout, which extends it.
+PointSet to_points(const std::vector<SurfaceSample> &samples, const std::vector<std::string> &columns) {
+    PointSet ps(columns, samples.size());
+    const bool emission = columns.size() == scene_point_columns().size();
     for (size_t i = 0; i < samples.size(); ++i) {
         ps.set_vec3(i, 0, samples[i].p);
         ps.set_vec3(i, 3, samples[i].n);
         ps.set_vec3(i, 6, samples[i].albedo);
-        ps.set_vec3(i, 9, samples[i].emission);
+        if (emission) ps.set_vec3(i, 9, samples[i].emission);
     }
     return ps;
 }
+}  // namespace
 
-PointSet to_query_points(const std::vector<SurfaceSample> &samples) {
-    PointSet ps(query_point_columns(), samples.size());
-    for (size_t i = 0; i < samples.size(); ++i) {
-        ps.set_vec3(i, 0, samples[i].p);
-        ps.set_vec3(i, 3, samples[i].n);
-        ps.set_vec3(i, 6, samples[i].albedo);
-    }
-    return ps;
-}
+PointSet to_scene_points(const std::vector<SurfaceSample> &samples) { return to_points(samples, scene_point_columns()); }
+
+PointSet to_query_points(const std::vector<SurfaceSample> &samples) { return to_points(samples, query_point_columns()); }
 
 }  // namespace ltm

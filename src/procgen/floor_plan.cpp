@@ -82,15 +82,28 @@ RoomCells plan_single(PlanContext &c) {
     return {{RectMm{0, 0, w, d}}};
 }
 
-RoomCells plan_l_room(PlanContext &c) {
-    const int w = sample_snapped(c.rng, c.cfg.rooms.l_room_size, c.snap);
-    const int d = sample_snapped(c.rng, c.cfg.rooms.l_room_size, c.snap);
+// An L: a w×d box (sides drawn from `size`) less a corner a×b, as the main part [0,w]x[0,d-b] and
+// the wing [0,w-a]x[d-b,d]; empty unless both parts are usable rooms and the cut is b >= min_cut deep.
+std::vector<RectMm> l_shape(PlanContext &c, Vec2f size, int min_cut) {
+    const int w = sample_snapped(c.rng, size, c.snap);
+    const int d = sample_snapped(c.rng, size, c.snap);
     const Vec2f f = c.cfg.plan.l_cut_fraction;
     const int a = snap_mm(double(w) * double(c.rng.uniform(f.x, f.y)), c.snap);
     const int b = snap_mm(double(d) * double(c.rng.uniform(f.x, f.y)), c.snap);
-    // Main part [0,w]x[0,d-b], wing [0,w-a]x[d-b,d]; both must be usable rooms.
-    if (a <= 0 || b < c.min_side / 2 || w - a < c.min_side || d - b < c.min_side) return {};
-    return {{RectMm{0, 0, w, d - b}, RectMm{0, d - b, w - a, d}}};
+    if (a <= 0 || b < min_cut || w - a < c.min_side || d - b < c.min_side) return {};
+    return {RectMm{0, 0, w, d - b}, RectMm{0, d - b, w - a, d}};
+}
+
+RoomCells one_room_per_cell(const std::vector<RectMm> &cells) {
+    RoomCells rooms;
+    for (const RectMm &r : cells) rooms.push_back({r});
+    return rooms;
+}
+
+RoomCells plan_l_room(PlanContext &c) {
+    const std::vector<RectMm> l = l_shape(c, c.cfg.rooms.l_room_size, c.min_side / 2);
+    if (l.empty()) return {};
+    return {l};
 }
 
 RoomCells plan_bsp(PlanContext &c) {
@@ -98,9 +111,7 @@ RoomCells plan_bsp(PlanContext &c) {
     const int d = sample_snapped(c.rng, c.cfg.plan.footprint_size, c.snap);
     std::vector<RectMm> cells{RectMm{0, 0, w, d}};
     bsp_split(c, cells, c.rng.uniform_int(c.cfg.plan.n_rooms.lo, c.cfg.plan.n_rooms.hi));
-    RoomCells rooms;
-    for (const RectMm &r : cells) rooms.push_back({r});
-    return rooms;
+    return one_room_per_cell(cells);
 }
 
 RoomCells plan_hallway(PlanContext &c, std::vector<std::string> &kinds) {
@@ -128,17 +139,10 @@ RoomCells plan_hallway(PlanContext &c, std::vector<std::string> &kinds) {
 }
 
 RoomCells plan_l_split(PlanContext &c) {
-    const int w = sample_snapped(c.rng, c.cfg.plan.footprint_size, c.snap);
-    const int d = sample_snapped(c.rng, c.cfg.plan.footprint_size, c.snap);
-    const Vec2f f = c.cfg.plan.l_cut_fraction;
-    const int a = snap_mm(double(w) * double(c.rng.uniform(f.x, f.y)), c.snap);
-    const int b = snap_mm(double(d) * double(c.rng.uniform(f.x, f.y)), c.snap);
-    if (a <= 0 || b < c.min_side || w - a < c.min_side || d - b < c.min_side) return {};
-    std::vector<RectMm> cells{RectMm{0, 0, w, d - b}, RectMm{0, d - b, w - a, d}};
+    std::vector<RectMm> cells = l_shape(c, c.cfg.plan.footprint_size, c.min_side);
+    if (cells.empty()) return {};
     bsp_split(c, cells, std::max(2, c.rng.uniform_int(c.cfg.plan.n_rooms.lo, c.cfg.plan.n_rooms.hi)));
-    RoomCells rooms;
-    for (const RectMm &r : cells) rooms.push_back({r});
-    return rooms;
+    return one_room_per_cell(cells);
 }
 
 // Random axis swap and mirrors, then centre the footprint on the origin (on the snap grid).

@@ -25,6 +25,17 @@ TriangleMesh named_mesh(const std::string &name, int material) {
     return m;
 }
 Vec3f mm(float x, float y, float z) { return {x * 1e-3f, y * 1e-3f, z * 1e-3f}; }
+Camera looking_at(Vec3f eye, Vec3f target, float fov_y_deg) {
+    Camera cam;
+    cam.eye = eye;
+    cam.target = target;
+    cam.fov_y_deg = fov_y_deg;
+    return cam;
+}
+// Reverses every triangle's winding: add_box's outward faces become a room's inward ones.
+void flip_winding(TriangleMesh &m) {
+    for (size_t t = 0; t < m.n_triangles(); ++t) std::swap(m.indices[3 * t + 1], m.indices[3 * t + 2]);
+}
 }  // namespace
 
 Scene cornell_box() {
@@ -69,11 +80,7 @@ Scene cornell_box() {
     s.meshes = {floor, ceiling, back, right, left, lamp, block("short_block", short_top, 0.165f),
                 block("tall_block", tall_top, 0.33f)};
 
-    Camera cam;
-    cam.eye = mm(278, 273, -800);
-    cam.target = mm(278, 273, 0);
-    cam.fov_y_deg = 39.3077f;
-    s.cameras.push_back(cam);
+    s.cameras.push_back(looking_at(mm(278, 273, -800), mm(278, 273, 0), 39.3077f));
     return s;
 }
 
@@ -83,13 +90,9 @@ Scene furnace_box(float albedo, float emission) {
     const int m = s.add_material(emitter("furnace", Vec3f(emission), Vec3f(albedo)));
     TriangleMesh box = named_mesh("box", m);
     add_box(box, Vec3f(0.f), Vec3f(1.f));
-    for (size_t t = 0; t < box.n_triangles(); ++t) std::swap(box.indices[3 * t + 1], box.indices[3 * t + 2]);
+    flip_winding(box);
     s.meshes.push_back(box);
-    Camera cam;
-    cam.eye = {0.5f, 0.5f, 0.95f};
-    cam.target = {0.5f, 0.5f, 0.f};
-    cam.fov_y_deg = 90.f;
-    s.cameras.push_back(cam);
+    s.cameras.push_back(looking_at({0.5f, 0.5f, 0.95f}, {0.5f, 0.5f, 0.f}, 90.f));
     return s;
 }
 
@@ -104,7 +107,7 @@ Scene quad_light_room() {
     TriangleMesh shell = named_mesh("walls", wall), floor = named_mesh("floor", floor_m);
     add_box(shell, lo, hi);
     // Inward-facing room: flip the box; then move the floor (the -y face) to its own mesh.
-    for (size_t t = 0; t < shell.n_triangles(); ++t) std::swap(shell.indices[3 * t + 1], shell.indices[3 * t + 2]);
+    flip_winding(shell);
     TriangleMesh walls = named_mesh("walls", wall);
     for (size_t t = 0; t < shell.n_triangles(); ++t) {
         TriangleMesh &dst = shell.cross_normal(t).y > 0.5f ? floor : walls;
@@ -119,11 +122,7 @@ Scene quad_light_room() {
     TriangleMesh box = named_mesh("box", box_m);
     add_box(box, {3.2f, 0.f, 0.8f}, {4.0f, 0.9f, 1.6f});
     s.meshes = {walls, floor, lamp, box};
-    Camera cam;
-    cam.eye = {0.4f, 1.6f, 3.6f};
-    cam.target = {3.5f, 0.8f, 1.0f};
-    cam.fov_y_deg = 65.f;
-    s.cameras.push_back(cam);
+    s.cameras.push_back(looking_at({0.4f, 1.6f, 3.6f}, {3.5f, 0.8f, 1.0f}, 65.f));
     return s;
 }
 

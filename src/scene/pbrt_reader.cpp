@@ -198,6 +198,14 @@ private:
         if (t.kind != k) LTM_THROW(t.where(), ": expected ", what, ", got '", t.kind == Kind::end ? "end of file" : t.text, "'");
         return t;
     }
+
+    // The next token, a quoted name (`what`), looked up in `named`; else "<unknown> '<name>'".
+    template <class V> const V &lookup(const std::map<std::string, V> &named, const char *what, const char *unknown) {
+        const PbrtToken s = expect(Kind::string, what);
+        const auto it = named.find(s.text);
+        if (it == named.end()) LTM_THROW(s.where(), ": ", unknown, " '", s.text, "'");
+        return it->second;
+    }
     double number() { return expect(Kind::number, "a number").number; }
     std::string string() { return expect(Kind::string, "a quoted string").text; }
 
@@ -388,10 +396,7 @@ private:
         } else if (n == "CoordinateSystem") {
             m_coord[string()] = m_state.ctm;
         } else if (n == "CoordSysTransform") {
-            const PbrtToken s = expect(Kind::string, "a coordinate system name");
-            const auto it = m_coord.find(s.text);
-            if (it == m_coord.end()) LTM_THROW(s.where(), ": unknown coordinate system '", s.text, "'");
-            m_state.ctm = it->second;
+            m_state.ctm = lookup(m_coord, "a coordinate system name", "unknown coordinate system");
         } else if (n == "ReverseOrientation") {
             m_state.reverse = !m_state.reverse;
         } else if (n == "WorldBegin") {
@@ -440,10 +445,7 @@ private:
             if (type.empty()) LTM_THROW(d.where(), ": MakeNamedMaterial '", name, "' has no \"string type\"");
             m_named_materials[name] = add_material(type, ps, name, d);
         } else if (n == "NamedMaterial") {
-            const PbrtToken s = expect(Kind::string, "a material name");
-            const auto it = m_named_materials.find(s.text);
-            if (it == m_named_materials.end()) LTM_THROW(s.where(), ": undefined named material '", s.text, "'");
-            m_state.material = it->second;
+            m_state.material = lookup(m_named_materials, "a material name", "undefined named material");
         } else if (n == "LightSource") {
             const std::string type = string();
             params();

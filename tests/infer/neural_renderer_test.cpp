@@ -25,19 +25,21 @@ LtmModel tiny_model() {
     return m;
 }
 
+Camera looking_at(Vec3f eye, Vec3f target, int size) {
+    Camera c;
+    c.eye = eye, c.target = target, c.width = size, c.height = size, c.fov_y_deg = 50.f;
+    return c;
+}
+
 // The built-in room, its accelerator and path tracer, and the tiny model: most tests' set-up.
 struct Room {
     Scene scene = load_scene("builtin:quad-light-room");
     EmbreeAccel accel{scene};
     PathTracer pt{accel, PathTracerConfig{}};
     LtmModel model = tiny_model();
+    /// The render tests' view: size×size pixels of the floor, the box and the walls.
+    static Camera view(int size) { return looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, size); }
 };
-
-Camera looking_at(Vec3f eye, Vec3f target, int size) {
-    Camera c;
-    c.eye = eye, c.target = target, c.width = size, c.height = size, c.fov_y_deg = 50.f;
-    return c;
-}
 }  // namespace
 
 // The same world-space point seen from two cameras gets the same prediction: the model's input is
@@ -91,19 +93,16 @@ TEST(NeuralRenderer, PredictionIndependentOfBatch) {
 // (--direct-estimator mis) or the ratio estimator (the default for constant-radiance emitters).
 TEST(NeuralRenderer, ComposesDirectAndPredictedIrradiance) {
     Room room;
-    const EmbreeAccel &accel = room.accel;
-    const PathTracer &pt = room.pt;
-    LtmModel &model = room.model;
-    const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, 20);
+    const Camera cam = Room::view(20);
     NeuralRenderOptions opt;
     opt.direct_spp = 4, opt.seed = 2, opt.direct = DirectEstimator::mis;
-    const NeuralRender r = render_neural(model, pt, cam, opt);
+    const NeuralRender r = render_neural(room.model, room.pt, cam, opt);
     EXPECT_EQ(r.direct, DirectEstimator::mis);
-    const GBuffer gb = render_gbuffer(accel, cam);
+    const GBuffer gb = render_gbuffer(room.accel, cam);
     ASSERT_EQ(r.n_queries, int64_t(gb.n_hits()));
-    EXPECT_EQ(r.n_scene_points, model->cfg.scene_points);
-    const IrradianceImages direct = irradiance_images(pt, gb, 4, /*with_indirect=*/false);
-    const auto pred = predict_gbuffer(model, encode_scene(model, accel, 2), gb);
+    EXPECT_EQ(r.n_scene_points, room.model->cfg.scene_points);
+    const IrradianceImages direct = irradiance_images(room.pt, gb, 4, /*with_indirect=*/false);
+    const auto pred = predict_gbuffer(room.model, encode_scene(room.model, room.accel, 2), gb);
     for (size_t k = 0; k < gb.n_hits(); k += 7) {
         const size_t i = size_t(gb.hit_pixels[k]);
         EXPECT_EQ(r.image.direct.pixels[i], direct.direct.pixels[i]);
@@ -173,15 +172,12 @@ TEST(NeuralRenderer, GiLatticeMatchesFullDecodeWhereDecoded) {
 // the same as render/direct_light's image for the same seed.
 TEST(NeuralRenderer, AutomaticDirectLightIsTheRatioEstimator) {
     Room room;
-    const EmbreeAccel &accel = room.accel;
-    const PathTracer &pt = room.pt;
-    LtmModel &model = room.model;
-    const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, 16);
+    const Camera cam = Room::view(16);
     NeuralRenderOptions opt;
     opt.direct_spp = 2, opt.seed = 9;
-    const NeuralRender r = render_neural(model, pt, cam, opt);
+    const NeuralRender r = render_neural(room.model, room.pt, cam, opt);
     EXPECT_EQ(r.direct, DirectEstimator::ratio);
-    const Image want = direct_images_ratio(RatioDirectLight(accel, 9), render_gbuffer(accel, cam), 2).direct;
+    const Image want = direct_images_ratio(RatioDirectLight(room.accel, 9), render_gbuffer(room.accel, cam), 2).direct;
     EXPECT_EQ(r.image.direct.pixels, want.pixels);
     EXPECT_EQ(parse_direct_estimator("mis"), DirectEstimator::mis);
     EXPECT_THROW(parse_direct_estimator("fast"), Error);

@@ -30,14 +30,7 @@ struct Fixture : test::TinySceneFixture {
     }
 };
 
-LtmModel random_head(const ModelConfig &cfg, uint64_t seed) {
-    torch::manual_seed(seed);
-    LtmModel m(cfg);
-    torch::NoGradGuard g;
-    for (auto &p : m->directional->parameters()) p.normal_(0.0, 0.5);
-    m->eval();
-    return m;
-}
+LtmModel random_head(const ModelConfig &cfg, uint64_t seed) { return test::model_with_random_part(cfg, seed, "directional"); }
 
 torch::Tensor radiance(LtmModel &m, const torch::Tensor &sp, const torch::Tensor &qp, const torch::Tensor &d) {
     return m->predict_radiance(qp, d, m->encode(sp, m->scene_geometry(sp)));

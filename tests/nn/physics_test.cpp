@@ -26,14 +26,7 @@ struct Fixture : test::TinySceneFixture {
 };
 
 // A model whose output is not a constant: random decoder weights at a larger scale.
-LtmModel make_model(ModelConfig cfg, uint64_t seed) {
-    torch::manual_seed(seed);
-    LtmModel m(cfg);
-    torch::NoGradGuard g;
-    for (auto &p : m->decoder->parameters()) p.normal_(0.0, 0.5);
-    m->eval();
-    return m;
-}
+LtmModel make_model(const ModelConfig &cfg, uint64_t seed) { return test::model_with_random_part(cfg, seed, "decoder"); }
 
 torch::Tensor predict(LtmModel &m, const torch::Tensor &sp, const torch::Tensor &qp) {
     return m->predict_irradiance(qp, m->encode(sp, m->scene_geometry(sp)));

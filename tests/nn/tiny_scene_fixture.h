@@ -1,11 +1,13 @@
 // tiny_scene_fixture.h: the tiny model's config with scene and query points of the built-in
-// quad-light room, shared by the model tests.
+// quad-light room, and a model with one part's weights drawn at a larger scale, shared by the model
+// tests.
 #pragma once
 
 #include <cstdint>
 
 #include <torch/torch.h>
 
+#include "ltm/nn/ltm_model.h"
 #include "ltm/nn/model_config.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/surface_sampler.h"
@@ -22,5 +24,16 @@ struct TinySceneFixture {
     torch::Tensor sp = point_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 1, SampleStream::scene_points)));
     torch::Tensor qp;   ///< [n_queries, 9]; initialised after scene (declaration order)
 };
+
+/// A model (eval mode, seeded) whose submodule `part` ("decoder", "directional") has N(0, 0.5²)
+/// weights: an output that is not a constant, which the default initialisation can be.
+inline LtmModel model_with_random_part(const ModelConfig &cfg, uint64_t seed, const std::string &part) {
+    torch::manual_seed(seed);
+    LtmModel m(cfg);
+    torch::NoGradGuard g;
+    for (auto &p : m->named_children()[part]->parameters()) p.normal_(0.0, 0.5);
+    m->eval();
+    return m;
+}
 
 }  // namespace ltm::test

@@ -11,6 +11,7 @@
 #include "ltm/core/parallel.h"
 #include "ltm/points/point_visibility.h"
 #include "ltm/points/transport_prior.h"
+#include "point_rooms.h"
 
 using namespace ltm;
 
@@ -25,24 +26,14 @@ float hash01(size_t i, int salt) {
     return float(x - std::floor(x));
 }
 template <class Keep, class Le> void add_room(Points &out, Vec3f lo, Vec3f size, int g, Keep keep, Le le) {
-    for (int f = 0; f < 6; ++f) {
-        const int axis = f / 2;
-        const bool hi = f % 2 == 1;
-        for (int a = 0; a < g; ++a)
-            for (int b = 0; b < g; ++b) {
-                Vec3f p(0.f), n(0.f);
-                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-                p[axis] = lo[axis] + (hi ? size[axis] : 0.f);
-                // Jittered in the plane (±0.15 of the spacing): no exact distance ties, so FPS and
-                // the cluster choice do not hinge on float rounding.
-                const float ju = 0.3f * (hash01(out.p.size(), 1) - 0.5f), jv = 0.3f * (hash01(out.p.size(), 2) - 0.5f);
-                p[u] = lo[u] + (float(a) + 0.5f + ju) / float(g) * size[u];
-                p[v] = lo[v] + (float(b) + 0.5f + jv) / float(g) * size[v];
-                n[axis] = hi ? -1.f : 1.f;
-                if (!keep(p)) continue;
-                out.p.push_back(p), out.n.push_back(n), out.rho.push_back(Vec3f(0.5f)), out.le.push_back(le(f));
-            }
-    }
+    // Jittered in the plane (±0.15 of the spacing): no exact distance ties, so FPS and the cluster
+    // choice do not hinge on float rounding.
+    const auto jitter = [&out] {
+        return std::pair{0.3f * (hash01(out.p.size(), 1) - 0.5f), 0.3f * (hash01(out.p.size(), 2) - 0.5f)};
+    };
+    test::for_each_face_cell(lo, size, g, jitter, [&](int f, Vec3f p, Vec3f n) {
+        if (keep(p)) out.p.push_back(p), out.n.push_back(n), out.rho.push_back(Vec3f(0.5f)), out.le.push_back(le(f));
+    });
 }
 
 // Room A = [0, 2]³ with an emitting ceiling, room B = [2.2, 4.2] × [0, 2]² beside it: a wall
@@ -61,13 +52,7 @@ Points two_rooms(bool door) {
 
 constexpr float k_spacing = 2.f / 12.f;
 
-std::vector<float> gather(const TransportPrior &t, const std::vector<Vec3f> &p, const std::vector<Vec3f> &n) {
-    std::vector<float> pos, nrm, out(3 * p.size());
-    for (size_t i = 0; i < p.size(); ++i)
-        for (int c = 0; c < 3; ++c) pos.push_back(p[i][c]), nrm.push_back(n[i][c]);
-    gather_transport_prior(t, pos.data(), nrm.data(), 3, p.size(), out.data());
-    return out;
-}
+using test::gather;
 
 TransportPrior solve(const Points &pts, float voxel) {
     ClusterVisibility v;

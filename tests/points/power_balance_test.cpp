@@ -48,11 +48,7 @@ TEST(EmissionScale, ClosedFormAndPassFraction) {
     EXPECT_THROW(scene_emission_scale(s, 0.0), Error);
     EXPECT_THROW(scene_emission_scale(s, 1.5), Error);
     // A textured emitter is averaged over the triangle: a checker of 0 and 2 has mean ≈ 1.
-    Texture checker = Texture::constant(Vec3f(0.f));
-    checker.kind = TextureKind::checker;
-    checker.color_a = Vec3f(0.f), checker.color_b = Vec3f(2.f);
-    checker.scale = 0.25f;
-    const Vec3f St = scene_emission_scale(two_quads(checker));
+    const Vec3f St = scene_emission_scale(two_quads(Texture::checker(Vec3f(0.f), Vec3f(2.f), 0.25f)));
     EXPECT_NEAR(St.x, k_pi * 1.f / 2.f, 0.1 * k_pi / 2.f);
 }
 

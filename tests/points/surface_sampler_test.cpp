@@ -81,11 +81,7 @@ TEST(SurfaceSampler, NormalsFaceTheSideTheSampleCameFrom) {
 
 // The albedo is the texture at the sample's own uv (add_quad: u = distance along z, v along x).
 TEST(SurfaceSampler, AlbedoIsTheTextureAtTheSample) {
-    Texture t;
-    t.kind = TextureKind::checker;
-    t.color_a = {0.9f, 0.1f, 0.1f};
-    t.color_b = {0.1f, 0.1f, 0.9f};
-    t.scale = 0.125f;
+    const Texture t = Texture::checker({0.9f, 0.1f, 0.1f}, {0.1f, 0.1f, 0.9f}, 0.125f);
     const Scene s = single_quad_scene(t);
     int a = 0;
     for (const auto &x : sample_surface(s, 4000, 9, SampleStream::query_points)) {

@@ -6,6 +6,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
 #include "ltm/points/transport_prior.h"
+#include "point_rooms.h"
 
 using namespace ltm;
 
@@ -18,31 +19,14 @@ struct Nodes {
 };
 template <class Rho, class Le> Nodes cube(int g, float side, Rho rho, Le le) {
     Nodes out;
-    for (int f = 0; f < 6; ++f) {
-        const int axis = f / 2;
-        const bool hi = f % 2 == 1;
-        for (int a = 0; a < g; ++a)
-            for (int b = 0; b < g; ++b) {
-                Vec3f p(0.f), n(0.f);
-                const float u = (float(a) + 0.5f) / float(g) * side, v = (float(b) + 0.5f) / float(g) * side;
-                p[axis] = hi ? side : 0.f;
-                p[(axis + 1) % 3] = u;
-                p[(axis + 2) % 3] = v;
-                n[axis] = hi ? -1.f : 1.f;
-                out.p.push_back(p), out.n.push_back(n), out.rho.push_back(rho(f)), out.le.push_back(le(f));
-            }
-    }
+    test::for_each_face_cell(Vec3f(0.f), Vec3f(side), g, test::no_jitter, [&](int f, Vec3f p, Vec3f n) {
+        out.p.push_back(p), out.n.push_back(n), out.rho.push_back(rho(f)), out.le.push_back(le(f));
+    });
     out.area = side * side / float(g * g);
     return out;
 }
 
-std::vector<float> gather(const TransportPrior &t, const std::vector<Vec3f> &p, const std::vector<Vec3f> &n) {
-    std::vector<float> pos, nrm, out(3 * p.size());
-    for (size_t i = 0; i < p.size(); ++i)
-        for (int c = 0; c < 3; ++c) pos.push_back(p[i][c]), nrm.push_back(n[i][c]);
-    gather_transport_prior(t, pos.data(), nrm.data(), 3, p.size(), out.data());
-    return out;
-}
+using test::gather;
 
 TransportPrior solve(const Nodes &c, int bounces) { return solve_transport_prior(c.p, c.n, c.rho, c.le, c.area, bounces); }
 }  // namespace

@@ -6,11 +6,7 @@
 using namespace ltm;
 
 TEST(Texture, CheckerAlternatesEveryScaleUnits) {
-    Texture t;
-    t.kind = TextureKind::checker;
-    t.color_a = {1, 0, 0};
-    t.color_b = {0, 0, 1};
-    t.scale = 0.5f;
+    Texture t = Texture::checker({1, 0, 0}, {0, 0, 1}, 0.5f);
     EXPECT_EQ(t.eval({0.1f, 0.1f}), t.color_a);
     EXPECT_EQ(t.eval({0.6f, 0.1f}), t.color_b);
     EXPECT_EQ(t.eval({0.6f, 0.6f}), t.color_a);

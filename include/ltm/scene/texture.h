@@ -33,6 +33,13 @@ struct Texture {
         t.color_a = c;
         return t;
     }
+    /// Squares of side `scale` (uv units) alternating a and b, unrotated.
+    static Texture checker(Vec3f a, Vec3f b, float scale) {
+        Texture t;
+        t.kind = TextureKind::checker;
+        t.color_a = a, t.color_b = b, t.scale = scale;
+        return t;
+    }
     /// Albedo/emission at uv. Image textures: bilinear, repeat wrap, v = 0 at the bottom row.
     Vec3f eval(Vec2f uv) const;
     bool is_constant() const { return kind == TextureKind::constant; }
