@@ -1,6 +1,6 @@
 // cmd_eval.cpp: `ltm eval --model M --scenes 900000:900050 --views 2 -o DIR` → report.json,
 // table.md and one PNG grid per scene and view (eval/experiment.h); --physics adds physics.json and
-// physics.md (eval/physics_check.h).
+// physics.md (eval/physics_check.h); --radiance adds radiance.json and radiance.md (eval/radiance_eval.h).
 #include <filesystem>
 #include <memory>
 
@@ -11,6 +11,7 @@
 #include "ltm/core/log.h"
 #include "ltm/eval/experiment.h"
 #include "ltm/eval/physics_check.h"
+#include "ltm/eval/radiance_eval.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/procgen/training_range.h"
@@ -24,7 +25,8 @@ struct EvalArgs {
     std::vector<std::string> scenes, ablations;
     EvalOptions opt;
     PhysicsCheckOptions physics;
-    bool no_grids = false, run_physics = false, physics_only = false;
+    bool no_grids = false, run_physics = false, physics_only = false, radiance = false;
+    int direct_spp = 16, glossy_samples = 16;
 };
 
 void declare(CLI::App &sub, EvalArgs &a) {
@@ -55,6 +57,15 @@ void declare(CLI::App &sub, EvalArgs &a) {
     sub.add_option("--physics-spp", a.physics.ref_spp, "Physics checks: reference samples per pixel")
         ->capture_default_str()
         ->check(CLI::Range(1, 1 << 20));
+    sub.add_flag("--radiance", a.radiance,
+                 "Also compare the rendered images (direct + GI; conductors through the directional head) with path "
+                 "tracing, over all pixels and over conductor pixels: radiance.json, radiance.md, radiance_*.png");
+    sub.add_option("--direct-spp", a.direct_spp, "--radiance: the neural render's light samples per pixel")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 16));
+    sub.add_option("--glossy-samples", a.glossy_samples, "--radiance: the neural render's GGX samples per conductor pixel")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 16));
     add_output_option(sub, a.output, "Output directory");
 }
 
@@ -102,6 +113,19 @@ void run(const EvalArgs &a, const CommonOptions &common) {
         std::fprintf(stderr, "%s", table.c_str());
         log_info("wrote ", a.output, "/physics.json, physics.md");
         if (a.physics_only) return;
+    }
+    if (a.radiance) {
+        RadianceEvalOptions ro;
+        ro.base = opt, ro.direct_spp = a.direct_spp, ro.glossy_samples = a.glossy_samples;
+        const RadianceEvalReport rr = run_radiance_evaluation(scenes, models, ro);
+        if (rr.all.views.empty()) LTM_THROW("eval --radiance: no view saw any surface");
+        OrderedJson j = rr.to_json();
+        j["model"] = a.model, j["scenes"] = a.scenes, j["threads"] = common.threads;
+        write_file_atomic(a.output + "/radiance.json", j.dump(2) + "\n");
+        const std::string table = rr.table_markdown();
+        write_file_atomic(a.output + "/radiance.md", table);
+        std::fprintf(stderr, "%s", table.c_str());
+        log_info("wrote ", a.output, "/radiance.json, radiance.md", a.no_grids ? "" : " and radiance_*.png");
     }
     const EvalReport r = run_evaluation(scenes, models, opt);
     if (r.views.empty()) LTM_THROW("eval: no view saw any surface");

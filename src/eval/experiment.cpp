@@ -8,7 +8,6 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
-#include "ltm/core/rng.h"
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/reference_cache.h"
 #include "ltm/infer/neural_renderer.h"
@@ -20,20 +19,6 @@
 namespace ltm {
 
 namespace {
-
-/// View v of n: the scene's first camera turned about its eye by 360°·v/n (yaw about +y).
-Camera view_camera(const Scene &scene, int v, int n, int width, int height) {
-    if (scene.cameras.empty()) LTM_THROW("eval: scene '", scene.name, "' has no camera");
-    Camera cam = scene.cameras.front();
-    cam.width = width, cam.height = height;
-    if (v > 0) {
-        const float a = 2.f * k_pi * float(v) / float(n), c = std::cos(a), s = std::sin(a);
-        const Vec3f d = cam.target - cam.eye;
-        cam.target = cam.eye + Vec3f{c * d.x + s * d.z, d.y, -s * d.x + c * d.z};
-        cam.name += "-yaw" + std::to_string(360 * v / n);
-    }
-    return cam;
-}
 
 struct Stats {
     double mean = 0, std = 0;
@@ -95,13 +80,9 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
     for (size_t si = 0; si < scenes.size(); ++si) {
         const EvalScene &es = scenes[si];
         const EmbreeAccel accel(es.scene);
-        // Independent random streams per method: the baselines must not share samples with the reference.
-        auto tracer_config = [&](uint64_t role) {
-            PathTracerConfig c;
-            c.seed = hash_keys({opt.seed, role});
-            return c;
-        };
-        const PathTracer pt_ref(accel, tracer_config(1)), pt_64(accel, tracer_config(2)), pt_eq(accel, tracer_config(3));
+        auto tracer_config = [&](EvalRole role) { return eval_tracer_config(opt.seed, role); };
+        const PathTracer pt_ref(accel, tracer_config(EvalRole::reference)), pt_64(accel, tracer_config(EvalRole::baseline)),
+            pt_eq(accel, tracer_config(EvalRole::equal_time));
         const auto t_prior = Clock::now();
         const int64_t n_points = models.empty() ? 8192 : models.front().model->cfg.scene_points;
         const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
@@ -125,7 +106,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
         for (int v = 0; v < opt.views; ++v) {
-            const Camera cam = view_camera(es.scene, v, opt.views, opt.width, opt.height);
+            const Camera cam = eval_view_camera(es.scene, v, opt.views, opt.width, opt.height);
             const GBuffer gb = render_gbuffer(accel, cam);
             if (gb.n_hits() == 0) {
                 log_warn("eval: ", es.name, " view ", cam.name, " sees nothing; skipped");
@@ -134,7 +115,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             ViewResult vr;
             vr.scene = es.name, vr.view = cam.name, vr.pixels = int64_t(gb.n_hits());
             log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
-            const Image ref = reference_image(es, cam, gb, pt_ref, tracer_config(1), opt, &vr);
+            const Image ref = reference_image(es, cam, gb, pt_ref, tracer_config(EvalRole::reference), opt, &vr);
             const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
             auto add = [&](const std::string &method, const Image &img, double secs, int spp) {
                 vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits)});
@@ -212,7 +193,7 @@ OrderedJson EvalReport::to_json() const {
                     {"views", options.views},       {"ref_spp", options.ref_spp},
                     {"baseline_spp", options.baseline_spp}, {"seed", options.seed},
                     {"metric_definition",
-                     "E+ images; MSE/PSNR/SSIM after dividing both images by the reference's 99th-percentile "
+                     quantity + "; MSE/PSNR/SSIM after dividing both images by the reference's 99th-percentile "
                      "luminance and clamping to [0,1] (SSIM: Gaussian 11x11, sigma 1.5, K1 0.01, K2 0.03, mean over "
                      "RGB); relMSE = mean (x-ref)^2/(ref^2+0.01) on linear HDR"}};
     j["models"] = models;
@@ -223,7 +204,8 @@ OrderedJson EvalReport::to_json() const {
         for (const auto &v : views)
             for (const auto &m : v.methods)
                 if (m.method == method) {
-                    mse.push_back(m.metrics.mse), ssim.push_back(m.metrics.ssim), rel.push_back(m.metrics.rel_mse);
+                    mse.push_back(m.metrics.mse), rel.push_back(m.metrics.rel_mse);
+                    if (std::isfinite(m.metrics.ssim)) ssim.push_back(m.metrics.ssim);   // NaN: a region too near the border
                     secs.push_back(m.seconds);
                     if (std::isfinite(m.metrics.psnr)) psnr.push_back(m.metrics.psnr);
                     chroma.push_back(m.field.chroma_error), corr.push_back(m.field.luminance_correlation);
@@ -270,7 +252,7 @@ std::string EvalReport::table_markdown() const {
         std::snprintf(buf, sizeof buf, "%.2f (%d)", s["level_ratio_geomean"].get<double>(), s["level_in_band"].get<int>());
         o << buf << " | " << f("chroma_error", "%.3f ± %.3f") << " | " << f("luminance_correlation", "%.2f ± %.2f") << " |\n";
     }
-    o << "\nE⁺ (indirect irradiance) at one surface point per pixel, " << options.width << "×" << options.height
+    o << "\n" << quantity << ", " << options.width << "×" << options.height
       << ", reference " << options.ref_spp << " spp. MSE/PSNR/SSIM on images divided by the reference's "
       << "99th-percentile luminance and clamped to [0, 1]; relMSE on linear HDR. mean ± std over views. "
       << "beats flat: views where the MSE is below the flat oracle's (every pixel the reference's mean colour). "

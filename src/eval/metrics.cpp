@@ -190,6 +190,44 @@ ImageMetrics compare_images(const Image &test, const Image &reference) {
     return m;
 }
 
+ImageMetrics compare_images_masked(const Image &test, const Image &reference, const std::vector<uint8_t> &mask) {
+    check_pair(test, reference, "compare_images_masked");
+    if (mask.size() != reference.pixels.size())
+        LTM_THROW("compare_images_masked(): mask has ", mask.size(), " entries, the images ", reference.pixels.size(), " pixels");
+    const float scale = tonemap_scale(reference);
+    const Image test_ldr = tonemap(test, scale), reference_ldr = tonemap(reference, scale);
+    double se = 0, rel = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < mask.size(); ++i) {
+        if (!mask[i]) continue;
+        ++n;
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(test_ldr.pixels[i][c]) - double(reference_ldr.pixels[i][c]);
+            const double r = double(reference.pixels[i][c]), dl = double(test.pixels[i][c]) - r;
+            se += d * d, rel += dl * dl / (r * r + 1e-2);
+        }
+    }
+    if (n == 0) LTM_THROW("compare_images_masked(): the mask selects no pixel");
+    ImageMetrics m;
+    m.mse = se / double(3 * n);
+    m.psnr = psnr_from_mse(m.mse, /*peak=*/1.0);
+    m.rel_mse = rel / double(3 * n);
+    // SSIM over the windows centred on region pixels: map pixel (x, y) is the window at (x + r, y + r).
+    double s = 0;
+    size_t windows = 0;
+    if (reference.width >= k_ssim_win && reference.height >= k_ssim_win) {
+        const Image map = ssim_map(test_ldr, reference_ldr);
+        for (int y = 0; y < map.height; ++y)
+            for (int x = 0; x < map.width; ++x)
+                if (mask[size_t(y + k_ssim_radius) * size_t(reference.width) + size_t(x + k_ssim_radius)]) {
+                    const Vec3f &v = map.at(x, y);
+                    s += (double(v.x) + double(v.y) + double(v.z)) / 3.0, ++windows;
+                }
+    }
+    m.ssim = windows > 0 ? s / double(windows) : std::numeric_limits<double>::quiet_NaN();
+    return m;
+}
+
 // ---- visualisation -----------------------------------------------------------------------------
 
 Vec3f error_ramp(float t) {

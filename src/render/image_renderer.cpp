@@ -16,7 +16,7 @@ namespace {
 constexpr uint64_t k_pixel_domain = 1ull << 62;   // pixel streams never collide with point streams
 }
 
-RenderedImage render_pathtraced(const PathTracer &pt, const Camera &cam, int spp) {
+RenderedImage render_pathtraced(const PathTracer &pt, const Camera &cam, int spp, bool jitter) {
     if (spp <= 0) LTM_THROW("render: samples per pixel must be > 0, got ", spp);
     const Scene &scene = pt.accel().scene();
     RenderedImage out;
@@ -38,7 +38,8 @@ RenderedImage render_pathtraced(const PathTracer &pt, const Camera &cam, int spp
                 for (int s = 0; s < spp; ++s) {
                     const uint64_t key = pt.stream_key(k_pixel_domain | pixel, uint64_t(s));
                     Pcg32 rng(key ^ 0x9e3779b97f4a7c15ull);
-                    const float jx = spp == 1 ? 0.5f : rng.next_float(), jy = spp == 1 ? 0.5f : rng.next_float();
+                    const bool centre = spp == 1 || !jitter;
+                    const float jx = centre ? 0.5f : rng.next_float(), jy = centre ? 0.5f : rng.next_float();
                     const Ray ray{cam.eye, cam.ray_direction(float(x) + jx, float(y) + jy)};
                     const auto hit = pt.accel().intersect(ray);
                     if (!hit) continue;

@@ -352,3 +352,41 @@ TEST(Metrics, ErrorMapFollowsTheRampThroughWritePng) {
     for (int x = 0; x < 5; ++x)
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(png.at(x, 0)[c], stops[x][c], 1e-6f) << x;
 }
+
+// A region's metrics: the whole image as the region is compare_images; a region is the same sums
+// taken over its pixels only (tone-mapped with the whole reference's scale); bad masks are refused.
+TEST(Metrics, MaskedComparisonIsTheFullOneRestrictedToTheRegion) {
+    const Image ref = random_image(24, 20, 11), test = random_image(24, 20, 12);
+    const ImageMetrics full = compare_images(test, ref);
+    const ImageMetrics all = compare_images_masked(test, ref, std::vector<uint8_t>(ref.pixels.size(), 1));
+    EXPECT_NEAR(all.mse, full.mse, 1e-12);
+    EXPECT_NEAR(all.rel_mse, full.rel_mse, 1e-12);
+    EXPECT_NEAR(all.ssim, full.ssim, 1e-6);   // the map is float, ssim() sums in double
+    // A region: pixel sums by hand, with the reference's own scale.
+    std::vector<uint8_t> mask(ref.pixels.size(), 0);
+    for (int x = 3; x < 20; ++x) mask[size_t(9 * 24 + x)] = 1;   // row 9, x in [3, 20)
+    const float s = tonemap_scale(ref);
+    double se = 0, rel = 0;
+    for (int x = 3; x < 20; ++x)
+        for (int c = 0; c < 3; ++c) {
+            const double t = test.at(x, 9)[c], r = ref.at(x, 9)[c];
+            const double d = std::min(1.0, std::max(0.0, double(float(t) * s))) - std::min(1.0, std::max(0.0, double(float(r) * s)));
+            se += d * d, rel += (t - r) * (t - r) / (r * r + 1e-2);
+        }
+    const ImageMetrics m = compare_images_masked(test, ref, mask);
+    EXPECT_NEAR(m.mse, se / (3 * 17), 1e-7);
+    EXPECT_NEAR(m.rel_mse, rel / (3 * 17), 1e-9);
+    // SSIM: the mean of the map over windows centred on region pixels (x in [5, 19) of row 9).
+    const Image map = ssim_map(tonemap(test, s), tonemap(ref, s));
+    double ss = 0;
+    for (int x = 5; x < 19; ++x) ss += (double(map.at(x - 5, 4).x) + map.at(x - 5, 4).y + map.at(x - 5, 4).z) / 3.0;
+    EXPECT_NEAR(m.ssim, ss / 14, 1e-9);
+    // A region wholly within the border has no SSIM window: NaN, the other metrics stay defined.
+    std::vector<uint8_t> corner(ref.pixels.size(), 0);
+    corner[0] = 1;
+    const ImageMetrics c = compare_images_masked(test, ref, corner);
+    EXPECT_TRUE(std::isnan(c.ssim));
+    EXPECT_TRUE(std::isfinite(c.mse));
+    EXPECT_THROW(compare_images_masked(test, ref, std::vector<uint8_t>(ref.pixels.size(), 0)), Error);
+    EXPECT_THROW(compare_images_masked(test, ref, std::vector<uint8_t>(7, 1)), Error);
+}

@@ -5,6 +5,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
 #include "ltm/render/gbuffer.h"
+#include "ltm/render/image_renderer.h"
 #include "ltm/scene/scene_loader.h"
 
 using namespace ltm;
@@ -73,4 +74,24 @@ TEST(GBuffer, ComposeIsEmissionPlusAlbedoOverPiTimesIrradiance) {
         EXPECT_EQ(r.color.pixels[i], want);
     }
     EXPECT_THROW(compose_image(gb, Image(3, 3), indirect), Error);
+}
+
+// Without jitter every path-traced sample goes through the pixel centre, the G-buffer's ray, so
+// the reference of `ltm eval --radiance` compares pixel by pixel with the neural render; with
+// jitter (the default) the samples spread over the pixel and edges are anti-aliased.
+TEST(GBuffer, PathTracedImageWithoutJitterSeesTheGBuffersPoints) {
+    const Scene scene = load_scene("builtin:quad-light-room");
+    const EmbreeAccel accel(scene);
+    const PathTracer pt(accel, PathTracerConfig{});
+    const Camera cam = test_camera();
+    const GBuffer gb = render_gbuffer(accel, cam);
+    const RenderedImage centre = render_pathtraced(pt, cam, 4, /*jitter=*/false), jittered = render_pathtraced(pt, cam, 4);
+    int moved = 0;
+    for (size_t k = 0; k < gb.n_hits(); ++k) {
+        const size_t i = size_t(gb.hit_pixels[k]);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre.position.pixels[i][c], gb.position[k][c], 1e-5f) << i;
+        moved += length(jittered.position.pixels[i] - gb.position[k]) > 1e-4f;
+    }
+    EXPECT_EQ(centre.hit_fraction, float(gb.n_hits()) / float(cam.width * cam.height));
+    EXPECT_GT(moved, int(gb.n_hits()) / 2);
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ltm/core/json_util.h"
+#include "ltm/eval/eval_setup.h"
 #include "ltm/eval/field_metrics.h"
 #include "ltm/eval/metrics.h"
 #include "ltm/nn/ltm_model.h"
@@ -57,6 +58,8 @@ struct ViewResult {
 
 struct EvalReport {
     EvalOptions options;
+    /// What the images hold, for the table's caption and the JSON's metric definition.
+    std::string quantity = "E⁺ (indirect irradiance) at one surface point per pixel";
     std::vector<std::string> models;
     std::vector<ViewResult> views;
     OrderedJson to_json() const;

@@ -7,6 +7,9 @@
 // (3, 4)"). Sums are accumulated in double.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "ltm/core/image.h"
 #include "ltm/core/math.h"
 #include "ltm/core/tonemap.h"
@@ -64,6 +67,14 @@ struct ImageMetrics {
 /// image cannot change its own exposure, then computes mse, psnr and ssim on the tone-mapped
 /// pair and rel_mse on the linear pair. Not symmetric: swapping arguments changes s.
 ImageMetrics compare_images(const Image &test, const Image &reference);
+
+/// compare_images on a region: the pixels where mask[y·width + x] != 0 (e.g. the conductors of a
+/// glossy scene). Both images are tone-mapped with the whole reference's scale (the region cannot
+/// pick its own exposure); mse and rel_mse average over the region's pixels and channels, psnr
+/// follows from mse, ssim is the mean of ssim_map over the windows centred on region pixels
+/// (NaN when no region pixel lies in the map's valid region, i.e. all within 5 px of the border).
+/// Throws ltm::Error when the mask's size differs from the images' or the region is empty.
+ImageMetrics compare_images_masked(const Image &test, const Image &reference, const std::vector<uint8_t> &mask);
 
 // ---- visualisation -----------------------------------------------------------------------------
 

@@ -22,7 +22,9 @@ struct RenderedImage {
 };
 
 /// Renders with spp samples per pixel; progress on stderr. Deterministic in (seed, pixel, sample).
-RenderedImage render_pathtraced(const PathTracer &pt, const Camera &camera, int spp);
+/// jitter = false sends every sample through the pixel centre, the G-buffer's ray
+/// (render/gbuffer.h): an image that compares pixel by pixel with the neural renderer's.
+RenderedImage render_pathtraced(const PathTracer &pt, const Camera &camera, int spp, bool jitter = true);
 
 /// Writes `<prefix>.exr` (channels R,G,B, irradiance.*, direct.*, albedo.*, N.*, P.*, Z) and
 /// `<prefix>.png` (tone-mapped sRGB: exposure scale, clamp).

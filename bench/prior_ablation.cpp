@@ -1,0 +1,103 @@
+// prior_ablation.cpp: the transport prior's occlusion settings against path-traced E⁺ on the
+// validation views `ltm eval` uses (issue #10: the shipped model's Ê⁺ is this prior). For each
+// setting: MSE and SSIM of the views (eval/metrics.h, as `ltm eval` computes them), views that
+// beat the flat oracle, level ratios in [0.8, 1.25], and the solve time. References come from the
+// same cache as `ltm eval --ref-cache` (identical key: scene, camera, spp and tracer seed), so
+//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [threads]
+// reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "ltm/core/log.h"
+#include "ltm/core/startup.h"
+#include "ltm/eval/eval_setup.h"
+#include "ltm/eval/field_metrics.h"
+#include "ltm/eval/metrics.h"
+#include "ltm/eval/reference_cache.h"
+#include "ltm/points/transport_prior.h"
+#include "ltm/procgen/indoor_generator.h"
+#include "ltm/render/gbuffer.h"
+#include "ltm/render/scene_points.h"
+
+using namespace ltm;
+
+namespace {
+struct Setting {
+    const char *name;
+    float voxel_spacings;
+    int clusters;
+};
+struct Sums {
+    double mse = 0, ssim = 0, seconds = 0;
+    int beats_flat = 0, in_band = 0, views = 0;
+};
+}  // namespace
+
+int main(int argc, char **argv) {
+    if (argc < 3) {
+        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256]\n", argv[0]);
+        return 1;
+    }
+    configure_process();
+    set_log_level(LogLevel::quiet);
+    const std::string range = argv[1];
+    const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
+    const std::string cache = argv[2];
+    const int size = argc > 3 ? std::atoi(argv[3]) : 64, ref_spp = argc > 4 ? std::atoi(argv[4]) : 256;
+    const std::vector<Setting> settings{{"no occlusion", 0.f, 0},          {"h 2, C 1024 (shipped)", 2.f, 1024},
+                                        {"h 2, C 2048", 2.f, 2048},        {"h 2, C 4096", 2.f, 4096},
+                                        {"h 1.5, C 2048", 1.5f, 2048},     {"h 3, C 2048", 3.f, 2048}};
+    std::vector<Sums> sums(settings.size());
+    try {
+        for (uint64_t seed = lo; seed < hi; ++seed) {
+            const Scene scene = generate_indoor(GenConfig{}, seed).scene;
+            const EmbreeAccel accel(scene);
+            // The eval's camera and reference tracer (eval/experiment.cpp: view 0 of 1, role 1).
+            const Camera cam = eval_view_camera(scene, 0, 1, size, size);
+            const PathTracerConfig cfg = eval_tracer_config(0, EvalRole::reference);
+            const PathTracer pt(accel, cfg);
+            const GBuffer gb = render_gbuffer(accel, cam);
+            if (gb.n_hits() == 0) continue;
+            bool cached = false;
+            const Image ref = reference_irradiance(cache, scene, cam, gb, pt, cfg, ref_spp, {{"scene", "seed-" + std::to_string(seed)}}, &cached)
+                                  .indirect;
+            const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
+            const Color3d mc = mean_color(ref_hits);
+            const Image flat = scatter_to_image(gb, std::vector<Vec3f>(gb.n_hits(), Vec3f{float(mc[0]), float(mc[1]), float(mc[2])}));
+            const double flat_mse = compare_images(flat, ref).mse;
+            const ScenePoints sp = sample_scene_points(accel, 8192, 0, true);
+            const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
+            for (size_t s = 0; s < settings.size(); ++s) {
+                const auto t0 = std::chrono::steady_clock::now();
+                VisibilityOptions vis;
+                vis.voxel_spacings = settings[s].voxel_spacings;
+                if (settings[s].clusters > 0) vis.clusters = settings[s].clusters;
+                const TransportPrior prior = solve_transport_prior(sp.points, spacing * spacing, 8, &sp.emission_scale, vis);
+                std::vector<Vec3f> e(gb.n_hits());
+                gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
+                const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                const ImageMetrics m = compare_images(scatter_to_image(gb, e), ref);
+                const FieldMetrics f = compare_fields(e, ref_hits);
+                Sums &x = sums[s];
+                x.mse += m.mse, x.ssim += m.ssim, x.seconds += secs, ++x.views;
+                x.beats_flat += m.mse < flat_mse, x.in_band += f.level_in_band();
+            }
+            std::fprintf(stderr, "seed %llu%s\n", (unsigned long long)seed, cached ? " (cached reference)" : "");
+        }
+        std::printf("| prior occlusion | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        for (size_t s = 0; s < settings.size(); ++s) {
+            const Sums &x = sums[s];
+            const double n = std::max(1, x.views);
+            std::printf("| %s | %d | %.4f | %.3f | %d | %d | %.2f |\n", settings[s].name, x.views, x.mse / n, x.ssim / n, x.beats_flat,
+                        x.in_band, x.seconds / n);
+        }
+    } catch (const std::exception &e) {
+        std::fprintf(stderr, "prior_ablation: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,24 @@
+// eval_setup.h: what every evaluation shares — the views it renders and the random streams of
+// each method — so `ltm eval`, `ltm eval --radiance` and the benches that reuse its reference
+// cache (bench/prior_ablation.cpp) render the same images with the same samples.
+#pragma once
+
+#include <cstdint>
+
+#include "ltm/render/path_tracer.h"
+#include "ltm/scene/camera.h"
+#include "ltm/scene/scene.h"
+
+namespace ltm {
+
+/// Who renders in an evaluation: each role has its own random streams, so no baseline shares
+/// samples with the reference (the values enter the seeds and the reference cache's keys).
+enum class EvalRole : uint64_t { reference = 1, baseline = 2, equal_time = 3, neural_direct = 4 };
+/// The path tracer configuration of `role` for evaluation seed `seed`.
+PathTracerConfig eval_tracer_config(uint64_t seed, EvalRole role);
+
+/// View v of n: the scene's first camera turned about its eye by 360°·v/n (yaw about +y), resized.
+/// Throws when the scene has no camera.
+Camera eval_view_camera(const Scene &scene, int v, int n, int width, int height);
+
+}  // namespace ltm

@@ -1,0 +1,31 @@
+// eval_setup.cpp: evaluation views and per-role random streams; see eval_setup.h.
+#include "ltm/eval/eval_setup.h"
+
+#include <cmath>
+#include <string>
+
+#include "ltm/core/error.h"
+#include "ltm/core/rng.h"
+
+namespace ltm {
+
+PathTracerConfig eval_tracer_config(uint64_t seed, EvalRole role) {
+    PathTracerConfig c;
+    c.seed = hash_keys({seed, uint64_t(role)});
+    return c;
+}
+
+Camera eval_view_camera(const Scene &scene, int v, int n, int width, int height) {
+    if (scene.cameras.empty()) LTM_THROW("eval: scene '", scene.name, "' has no camera");
+    Camera cam = scene.cameras.front();
+    cam.width = width, cam.height = height;
+    if (v > 0) {
+        const float a = 2.f * k_pi * float(v) / float(n), c = std::cos(a), s = std::sin(a);
+        const Vec3f d = cam.target - cam.eye;
+        cam.target = cam.eye + Vec3f{c * d.x + s * d.z, d.y, -s * d.x + c * d.z};
+        cam.name += "-yaw" + std::to_string(360 * v / n);
+    }
+    return cam;
+}
+
+}  // namespace ltm
