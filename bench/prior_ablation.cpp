@@ -3,7 +3,7 @@
 // setting: MSE and SSIM of the views (eval/metrics.h, as `ltm eval` computes them), views that
 // beat the flat oracle, level ratios in [0.8, 1.25], and the solve time. References come from the
 // same cache as `ltm eval --ref-cache` (identical key: scene, camera, spp and tracer seed), so
-//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [threads]
+//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S] ...]
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
 #include <chrono>
 #include <cmath>
@@ -27,9 +27,10 @@ using namespace ltm;
 
 namespace {
 struct Setting {
-    const char *name;
+    std::string name;   ///< "H:C[:S]"; "0:0" = no occlusion
     float voxel_spacings;
     int clusters;
+    float splat_spacings;   ///< VisibilityOptions::splat_spacings
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
@@ -39,7 +40,7 @@ struct Sums {
 
 int main(int argc, char **argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S] ...]\n", argv[0]);
         return 1;
     }
     configure_process();
@@ -48,9 +49,21 @@ int main(int argc, char **argv) {
     const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
     const std::string cache = argv[2];
     const int size = argc > 3 ? std::atoi(argv[3]) : 64, ref_spp = argc > 4 ? std::atoi(argv[4]) : 256;
-    const std::vector<Setting> settings{{"no occlusion", 0.f, 0},          {"h 2, C 1024 (shipped)", 2.f, 1024},
-                                        {"h 2, C 2048", 2.f, 2048},        {"h 2, C 4096", 2.f, 4096},
-                                        {"h 1.5, C 2048", 1.5f, 2048},     {"h 3, C 2048", 3.f, 2048}};
+    // Settings "H:C[:S]" (voxel edge in point spacings : clusters : tangent splat radius in spacings) from the command line, else a default sweep.
+    std::vector<Setting> settings;
+    std::vector<std::string> names;
+    for (int i = 5; i < argc; ++i) names.push_back(argv[i]);
+    if (names.empty()) names = {"0:0", "2:1024", "2:2048", "2:4096", "1.5:2048", "3:2048"};
+    for (const std::string &n : names) {
+        const size_t colon = n.find(':');
+        if (colon == std::string::npos) {
+            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S]\n", n.c_str());
+            return 1;
+        }
+        const size_t colon2 = n.find(':', colon + 1);   // optional third field: the tangent splat
+        settings.push_back({n, std::stof(n.substr(0, colon)), std::stoi(n.substr(colon + 1, colon2 - colon - 1)),
+                            colon2 == std::string::npos ? 0.f : std::stof(n.substr(colon2 + 1))});
+    }
     std::vector<Sums> sums(settings.size());
     try {
         for (uint64_t seed = lo; seed < hi; ++seed) {
@@ -76,6 +89,7 @@ int main(int argc, char **argv) {
                 VisibilityOptions vis;
                 vis.voxel_spacings = settings[s].voxel_spacings;
                 if (settings[s].clusters > 0) vis.clusters = settings[s].clusters;
+                vis.splat_spacings = settings[s].splat_spacings;
                 const TransportPrior prior = solve_transport_prior(sp.points, spacing * spacing, 8, &sp.emission_scale, vis);
                 std::vector<Vec3f> e(gb.n_hits());
                 gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
@@ -88,11 +102,11 @@ int main(int argc, char **argv) {
             }
             std::fprintf(stderr, "seed %llu%s\n", (unsigned long long)seed, cached ? " (cached reference)" : "");
         }
-        std::printf("| prior occlusion | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        std::printf("| occlusion H:C[:S] (voxel edge in point spacings : clusters : tangent splat in spacings) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
         for (size_t s = 0; s < settings.size(); ++s) {
             const Sums &x = sums[s];
             const double n = std::max(1, x.views);
-            std::printf("| %s | %d | %.4f | %.3f | %d | %d | %.2f |\n", settings[s].name, x.views, x.mse / n, x.ssim / n, x.beats_flat,
+            std::printf("| %s | %d | %.4f | %.3f | %d | %d | %.2f |\n", settings[s].name.c_str(), x.views, x.mse / n, x.ssim / n, x.beats_flat,
                         x.in_band, x.seconds / n);
         }
     } catch (const std::exception &e) {

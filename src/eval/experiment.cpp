@@ -95,11 +95,12 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             sampled.points, float(es.scene.total_area() / double(sampled.points.size())), 8, &sampled.emission_scale);
         const double transport_seconds = std::chrono::duration<double>(Clock::now() - t_transport).count();
         // The same with occlusion from the points alone (points/point_visibility.h): voxels of
-        // edge 2 point spacings, 1 024 clusters (as configs/model/cpu-tp.json).
+        // edge 1 point spacing, 1 024 clusters (as configs/model/cpu-tp.json since v0.8; v0.7 had 2,
+        // bench/prior_ablation.cpp compares the settings).
         const auto t_vis = Clock::now();
         const float spacing = float(std::sqrt(es.scene.total_area() / double(sampled.points.size())));
         VisibilityOptions vis;
-        vis.voxel_spacings = 2.f;
+        vis.voxel_spacings = 1.f;
         const TransportPrior transport_vis = solve_transport_prior(
             sampled.points, spacing * spacing, 8, &sampled.emission_scale, vis);
         const double transport_vis_seconds = std::chrono::duration<double>(Clock::now() - t_vis).count();

@@ -89,8 +89,10 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
                 add("model:" + models[mi].name, with_head.image.color, with_head.timings.total, 0);
                 if (mi == 0) first_model_seconds = with_head.timings.total, first_model = with_head.image.color;
                 if (mi == 0) tiles.push_back(with_head.image.color);
-                if (with_head.glossy_from_head) {
-                    no.glossy_samples = 0;   // conductors as diffuse: what an irradiance-only model gives
+                if (models[mi].model->directional) {
+                    // Conductors as diffuse: what an irradiance-only model gives (the same image
+                    // where the view shows no conductor, so both rows cover the same views).
+                    no.glossy_samples = 0;
                     const NeuralRender diffuse = render_neural(models[mi].model, pt_neural, cam, no);
                     add("model:" + models[mi].name + "/diffuse-conductors", diffuse.image.color, diffuse.timings.total, 0);
                     if (mi == 0) tiles.push_back(diffuse.image.color);

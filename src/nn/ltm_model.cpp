@@ -63,6 +63,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
     const Vec3f s(e[0].item<float>(), e[1].item<float>(), e[2].item<float>());
     VisibilityOptions vis;
     vis.voxel_spacings = physics.prior_visibility;   // in units of the points' own spacing: free of ℓ's FPS ties
+    vis.clusters = physics.prior_clusters;
     const PointSet all = scene_point_table(framed);
     return std::make_shared<const TransportPrior>(
         solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all));

@@ -58,6 +58,8 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_nodes", &C::prior_nodes, "the transport prior's nodes: the FPS anchors or all scene points", {}, {"anchors", "points"})
             .omit_default()
             .field("prior_visibility", &C::prior_visibility, "occlusion in the transport prior: voxel edge in point spacings (0 = none)", between(0, 64))
+            .omit_default()
+            .field("prior_clusters", &C::prior_clusters, "occlusion clusters of the transport prior (visibility is decided between them)", between(16, 16384))
             .omit_default();
     return f;
 }
@@ -99,6 +101,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
     c.physics = PhysicsConfig::legacy();   // v0.3 configs and weights have no "physics" object
     if (o.has("physics"))
         c.physics = PhysicsConfig::fields().read(o.require("physics"), o.where("physics"), PhysicsConfig{}, [](JsonObject &ph, PhysicsConfig &p) {
+            if (p.prior_clusters != PhysicsConfig{}.prior_clusters && !(p.prior_visibility > 0.f))
+                LTM_THROW(ph.where("prior_clusters"), ": occlusion clusters need prior_visibility > 0");
             if (p.prior_visibility > 0.f && p.prior_field != "transport")
                 LTM_THROW(ph.where("prior_visibility"), ": only the \"transport\" prior has visibility");
             if (p.prior_nodes != "anchors" && p.prior_field != "transport")

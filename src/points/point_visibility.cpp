@@ -37,8 +37,9 @@ uint8_t blocking_bits(Vec3f d) {
 }
 }  // namespace
 
-VoxelOccupancy::VoxelOccupancy(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float voxel)
+VoxelOccupancy::VoxelOccupancy(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float voxel, float splat)
     : m_h(voxel) {
+    if (!(splat >= 0.f) || !std::isfinite(splat)) LTM_THROW("voxel occupancy: splat radius must be >= 0, got ", splat);
     if (points.empty()) LTM_THROW("voxel occupancy: no points");
     if (normals.size() != points.size()) LTM_THROW("voxel occupancy: ", points.size(), " points but ", normals.size(), " normals");
     if (!(voxel > 0.f) || !std::isfinite(voxel)) LTM_THROW("voxel occupancy: voxel edge must be > 0, got ", voxel);
@@ -55,7 +56,22 @@ VoxelOccupancy::VoxelOccupancy(const std::vector<Vec3f> &points, const std::vect
         LTM_THROW("voxel occupancy: the scene is too large for the prior's voxel grid (", cells, " voxels of edge ", voxel,
                   ", at most 2^28)");
     m_facing.assign(size_t(cells), 0);
-    for (size_t i = 0; i < points.size(); ++i) m_facing[size_t(cell(points[i]))] |= facing_bits(normals[i]);
+    for (size_t i = 0; i < points.size(); ++i) {
+        const uint8_t bits = facing_bits(normals[i]);
+        m_facing[size_t(cell(points[i]))] |= bits;
+        if (splat <= 0.f) continue;
+        for (int a = 0; a < 3; ++a) {
+            Vec3f d(0.f);
+            d[a] = 1.f;
+            d = d - normals[i] * normals[i][a];   // e_a projected onto the tangent plane
+            const float len = length(d);
+            if (len < 0.5f) continue;
+            for (float sign : {-1.f, 1.f}) {
+                const int64_t c = cell(points[i] + d * (sign * splat / len));
+                if (c >= 0) m_facing[size_t(c)] |= bits;   // a splat past the spare cell is dropped
+            }
+        }
+    }
 }
 
 int64_t VoxelOccupancy::cell(Vec3f p) const {

@@ -176,8 +176,9 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         } else {
             op = p, on = n;
         }
-        const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * point_spacing(op);
-        v = cluster_visibility(p, n, VoxelOccupancy(op, on, h), vis.clusters);
+        const float spacing = vis.voxel > 0.f && !(vis.splat_spacings > 0.f) ? 0.f : point_spacing(op);
+        const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * spacing;
+        v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters);
     }
     return solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v));
 }

@@ -53,7 +53,7 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
         EXPECT_EQ(c.to_json()["physics"].contains("prior_field"), tp) << "written only when not flat: " << name;
         EXPECT_EQ(c.physics.prior_nodes, tp ? "points" : "anchors") << name;
         EXPECT_EQ(c.to_json()["physics"].contains("prior_nodes"), tp) << "written only when not anchors: " << name;
-        EXPECT_EQ(c.physics.prior_visibility, tp ? 2.f : 0.f) << name;
+        EXPECT_EQ(c.physics.prior_visibility, tp ? 1.f : 0.f) << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
     Json j = parse_json(ModelConfig::from_file(test::source_path("configs/model/tiny.json")).to_json().dump(), "t");
@@ -79,6 +79,13 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
     j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 2.0}};
     EXPECT_EQ(ModelConfig::from_json(j, "ok").to_json()["physics"]["prior_visibility"].get<double>(), 2.0);
+    EXPECT_FALSE(ModelConfig::from_json(j, "ok").to_json()["physics"].contains("prior_clusters")) << "default omitted";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_clusters", 2048}};
+    EXPECT_EQ(ModelConfig::from_json(j, "ok").to_json()["physics"]["prior_clusters"].get<int>(), 2048);
+    j["physics"] = {{"prior_field", "transport"}, {"prior_clusters", 2048}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "clusters without occlusion";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_clusters", 4}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "too few clusters";
 }
 
 TEST(Physics, EmissionLinearityIsExactAndLegacyIsNot) {

@@ -99,11 +99,14 @@ struct PhysicsConfig {
     /// 0.0178 with anchors). Only with prior_field "transport".
     std::string prior_nodes = "anchors";
     /// Occlusion in the transport prior from the scene points alone (points/point_visibility.h):
-    /// the voxel edge in units of the points' own spacing (point_spacing: ≈ √(A/M); 2 is what was
-    /// measured); 0 = none.
+    /// the voxel edge in units of the points' own spacing (point_spacing: ≈ √(A/M); 1 measured best
+    /// on the validation views, v0.8; bench/prior_ablation.cpp); 0 = none.
     float prior_visibility = 0.f;
+    /// About this many occlusion clusters (VisibilityOptions::clusters): visibility is decided
+    /// between them, C²/2 segments. Only with prior_visibility > 0.
+    int prior_clusters = 1024;
 
-    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f}; }
+    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024}; }
     /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.
     static const ConfigFields<PhysicsConfig> &fields();
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }

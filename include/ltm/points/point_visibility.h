@@ -36,8 +36,13 @@ class VoxelOccupancy {
 public:
     VoxelOccupancy() = default;
     /// points, normals: the scene points; voxel: the edge h > 0 (same unit as the positions).
-    /// Throws ltm::Error on no points, mismatched sizes, h ≤ 0 or more than 2^28 voxels.
-    VoxelOccupancy(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float voxel);
+    /// splat > 0: each point also marks, with its facing, the voxels at p ± splat·d̂ for each world
+    /// axis whose projection d onto the point's tangent plane is not short (|d| ≥ 0.5): a point
+    /// stands for a patch of its surface, so a grid finer than the points' spacing keeps no holes
+    /// in a wall, and the wall does not thicken along its normal. Axis-aligned, so the grid still
+    /// maps to itself under the 8 horizontal symmetries.
+    /// Throws ltm::Error on no points, mismatched sizes, h ≤ 0, splat < 0 or more than 2^28 voxels.
+    VoxelOccupancy(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float voxel, float splat = 0.f);
     bool solid(Vec3f p) const { return facing(p) != 0; }   ///< outside the grid: not solid
     /// The facing bits of the voxel at p: bit 2a for +axis a, 2a + 1 for −axis a; 0 outside.
     uint8_t facing(Vec3f p) const;
@@ -64,6 +69,9 @@ struct VisibilityOptions {
     /// flipped voxels under a ×10 unit change (physics check: 12 % max).
     float voxel_spacings = 0.f;
     int clusters = 1024;     ///< C: about this many cluster centres; visibility between them (C² / 2 segments)
+    /// Tangent splat radius of each occupancy point (VoxelOccupancy) in units of the points'
+    /// spacing; 0 = each point marks only its own voxel.
+    float splat_spacings = 0.f;
 };
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th
