@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ltm/core/error.h"
+#include "ltm/core/log.h"
 #include "ltm/core/rng.h"
 
 namespace ltm {
@@ -26,6 +27,16 @@ Camera eval_view_camera(const Scene &scene, int v, int n, int width, int height)
         cam.name += "-yaw" + std::to_string(360 * v / n);
     }
     return cam;
+}
+
+std::optional<EvalView> eval_view(const EmbreeAccel &accel, const std::string &scene_name, int v, int n, int width, int height) {
+    EvalView view{eval_view_camera(accel.scene(), v, n, width, height), {}};
+    view.gbuffer = render_gbuffer(accel, view.camera);
+    if (view.gbuffer.n_hits() == 0) {
+        log_warn("eval: ", scene_name, " view ", view.camera.name, " sees nothing; skipped");
+        return std::nullopt;
+    }
+    return view;
 }
 
 }  // namespace ltm

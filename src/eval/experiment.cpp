@@ -107,12 +107,10 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
         for (int v = 0; v < opt.views; ++v) {
-            const Camera cam = eval_view_camera(es.scene, v, opt.views, opt.width, opt.height);
-            const GBuffer gb = render_gbuffer(accel, cam);
-            if (gb.n_hits() == 0) {
-                log_warn("eval: ", es.name, " view ", cam.name, " sees nothing; skipped");
-                continue;
-            }
+            const auto view = eval_view(accel, es.name, v, opt.views, opt.width, opt.height);
+            if (!view) continue;
+            const Camera &cam = view->camera;
+            const GBuffer &gb = view->gbuffer;
             ViewResult vr;
             vr.scene = es.name, vr.view = cam.name, vr.pixels = int64_t(gb.n_hits());
             log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");

@@ -51,12 +51,10 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
         const PathTracer pt_ref = tracer(EvalRole::reference), pt_base = tracer(EvalRole::baseline),
                          pt_eq = tracer(EvalRole::equal_time), pt_neural = tracer(EvalRole::neural_direct);
         for (int v = 0; v < o.views; ++v) {
-            const Camera cam = eval_view_camera(es.scene, v, o.views, o.width, o.height);
-            const GBuffer gb = render_gbuffer(accel, cam);
-            if (gb.n_hits() == 0) {
-                log_warn("eval: ", es.name, " view ", cam.name, " sees nothing; skipped");
-                continue;
-            }
+            const auto view = eval_view(accel, es.name, v, o.views, o.width, o.height);
+            if (!view) continue;
+            const Camera &cam = view->camera;
+            const GBuffer &gb = view->gbuffer;
             log_info("eval --radiance: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
             std::vector<uint8_t> hit(size_t(cam.width) * size_t(cam.height), 0), conductor(hit.size(), 0);
             for (size_t k = 0; k < gb.n_hits(); ++k) {

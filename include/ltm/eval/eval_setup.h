@@ -4,7 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string>
 
+#include "ltm/render/gbuffer.h"
 #include "ltm/render/path_tracer.h"
 #include "ltm/scene/camera.h"
 #include "ltm/scene/scene.h"
@@ -20,5 +23,14 @@ PathTracerConfig eval_tracer_config(uint64_t seed, EvalRole role);
 /// View v of n: the scene's first camera turned about its eye by 360°·v/n (yaw about +y), resized.
 /// Throws when the scene has no camera.
 Camera eval_view_camera(const Scene &scene, int v, int n, int width, int height);
+
+/// One view of an evaluation: its camera and the G-buffer every method is compared at.
+struct EvalView {
+    Camera camera;
+    GBuffer gbuffer;
+};
+/// View v of n of accel's scene (eval_view_camera) and its G-buffer; nothing, with a warning
+/// naming `scene_name` and the view, when the camera sees no surface.
+std::optional<EvalView> eval_view(const EmbreeAccel &accel, const std::string &scene_name, int v, int n, int width, int height);
 
 }  // namespace ltm
