@@ -3,7 +3,7 @@
 // setting: MSE and SSIM of the views (eval/metrics.h, as `ltm eval` computes them), views that
 // beat the flat oracle, level ratios in [0.8, 1.25], and the solve time. References come from the
 // same cache as `ltm eval --ref-cache` (identical key: scene, camera, spp and tracer seed), so
-//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S] ...]
+//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F]] ...]
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
 #include <chrono>
 #include <cmath>
@@ -31,6 +31,7 @@ struct Setting {
     float voxel_spacings;
     int clusters;
     float splat_spacings;   ///< VisibilityOptions::splat_spacings
+    float area_factor;      ///< node area = factor · A / M
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
@@ -40,7 +41,7 @@ struct Sums {
 
 int main(int argc, char **argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S] ...]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S[:F]] ...]\n", argv[0]);
         return 1;
     }
     configure_process();
@@ -57,12 +58,15 @@ int main(int argc, char **argv) {
     for (const std::string &n : names) {
         const size_t colon = n.find(':');
         if (colon == std::string::npos) {
-            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S]\n", n.c_str());
+            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F]]\n", n.c_str());
             return 1;
         }
-        const size_t colon2 = n.find(':', colon + 1);   // optional third field: the tangent splat
+        // Optional third and fourth fields: the tangent splat, and a factor on the node area a (with
+        // rows normalised and the power balance restored, a only sets the near-field term a/π).
+        const size_t colon2 = n.find(':', colon + 1), colon3 = colon2 == std::string::npos ? colon2 : n.find(':', colon2 + 1);
         settings.push_back({n, std::stof(n.substr(0, colon)), std::stoi(n.substr(colon + 1, colon2 - colon - 1)),
-                            colon2 == std::string::npos ? 0.f : std::stof(n.substr(colon2 + 1))});
+                            colon2 == std::string::npos ? 0.f : std::stof(n.substr(colon2 + 1, colon3 - colon2 - 1)),
+                            colon3 == std::string::npos ? 1.f : std::stof(n.substr(colon3 + 1))});
     }
     std::vector<Sums> sums(settings.size());
     try {
@@ -90,7 +94,8 @@ int main(int argc, char **argv) {
                 vis.voxel_spacings = settings[s].voxel_spacings;
                 if (settings[s].clusters > 0) vis.clusters = settings[s].clusters;
                 vis.splat_spacings = settings[s].splat_spacings;
-                const TransportPrior prior = solve_transport_prior(sp.points, spacing * spacing, 8, &sp.emission_scale, vis);
+                const TransportPrior prior =
+                    solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, 8, &sp.emission_scale, vis);
                 std::vector<Vec3f> e(gb.n_hits());
                 gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
                 const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -102,7 +107,7 @@ int main(int argc, char **argv) {
             }
             std::fprintf(stderr, "seed %llu%s\n", (unsigned long long)seed, cached ? " (cached reference)" : "");
         }
-        std::printf("| occlusion H:C[:S] (voxel edge in point spacings : clusters : tangent splat in spacings) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        std::printf("| occlusion H:C[:S[:F]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
         for (size_t s = 0; s < settings.size(); ++s) {
             const Sums &x = sums[s];
             const double n = std::max(1, x.views);
