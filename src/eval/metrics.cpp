@@ -204,7 +204,7 @@ ImageMetrics compare_images_masked(const Image &test, const Image &reference, co
         for (int c = 0; c < 3; ++c) {
             const double d = double(test_ldr.pixels[i][c]) - double(reference_ldr.pixels[i][c]);
             const double r = double(reference.pixels[i][c]), dl = double(test.pixels[i][c]) - r;
-            se += d * d, rel += dl * dl / (r * r + 1e-2);
+            se += d * d, rel += dl * dl / (r * r + k_rel_mse_eps);
         }
     }
     if (n == 0) LTM_THROW("compare_images_masked(): the mask selects no pixel");

@@ -56,11 +56,8 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
             const Camera &cam = view->camera;
             const GBuffer &gb = view->gbuffer;
             log_info("eval --radiance: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
-            std::vector<uint8_t> hit(size_t(cam.width) * size_t(cam.height), 0), conductor(hit.size(), 0);
-            for (size_t k = 0; k < gb.n_hits(); ++k) {
-                hit[size_t(gb.hit_pixels[k])] = 1;
-                conductor[size_t(gb.hit_pixels[k])] = !gb.diffuse[k];
-            }
+            std::vector<uint8_t> conductor(size_t(cam.width) * size_t(cam.height), 0);
+            for (size_t k = 0; k < gb.n_hits(); ++k) conductor[size_t(gb.hit_pixels[k])] = !gb.diffuse[k];
             const int64_t n_conductor = std::count(conductor.begin(), conductor.end(), uint8_t(1));
             report.conductor_pixels += n_conductor;
             const RenderedImage ref = render_pathtraced(pt_ref, cam, o.ref_spp, /*jitter=*/false);
@@ -68,10 +65,9 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
             all.scene = cond.scene = es.name, all.view = cond.view = cam.name;
             all.pixels = int64_t(gb.n_hits()), cond.pixels = n_conductor;
             all.reference_seconds = cond.reference_seconds = ref.seconds;
-            const std::vector<Vec3f> ref_hits = masked_pixels(ref.color, hit), ref_cond = masked_pixels(ref.color, conductor);
+            const std::vector<Vec3f> ref_hits = gather_hits(gb, ref.color), ref_cond = masked_pixels(ref.color, conductor);
             auto add = [&](const std::string &method, const Image &img, double secs, int spp) {
-                all.methods.push_back({method, compare_images(img, ref.color), secs, spp,
-                                       compare_fields(masked_pixels(img, hit), ref_hits)});
+                all.methods.push_back({method, compare_images(img, ref.color), secs, spp, compare_fields(gather_hits(gb, img), ref_hits)});
                 if (n_conductor > 0)
                     cond.methods.push_back({method, compare_images_masked(img, ref.color, conductor), secs, spp,
                                             compare_fields(masked_pixels(img, conductor), ref_cond)});
@@ -88,12 +84,14 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
                 if (mi == 0) first_model_seconds = with_head.timings.total, first_model = with_head.image.color;
                 if (mi == 0) tiles.push_back(with_head.image.color);
                 if (models[mi].model->directional) {
-                    // Conductors as diffuse: what an irradiance-only model gives (the same image
-                    // where the view shows no conductor, so both rows cover the same views).
-                    no.glossy_samples = 0;
-                    const NeuralRender diffuse = render_neural(models[mi].model, pt_neural, cam, no);
-                    add("model:" + models[mi].name + "/diffuse-conductors", diffuse.image.color, diffuse.timings.total, 0);
-                    if (mi == 0) tiles.push_back(diffuse.image.color);
+                    // Conductors as diffuse: what an irradiance-only model gives, composed from the
+                    // same render's E_direct and Ê⁺ (its AOVs), so it costs the render less the
+                    // head's time; the same image where the view shows no conductor, so both rows
+                    // cover the same views.
+                    const Image diffuse = compose_image(gb, with_head.image.direct, with_head.image.irradiance).color;
+                    add("model:" + models[mi].name + "/diffuse-conductors", diffuse,
+                        with_head.timings.total - with_head.timings.glossy, 0);
+                    if (mi == 0) tiles.push_back(diffuse);
                 }
             }
             const RenderedImage base = render_pathtraced(pt_base, cam, o.baseline_spp, /*jitter=*/false);

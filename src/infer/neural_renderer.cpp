@@ -200,8 +200,8 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
                                         : irradiance_images(pt, gb, opt.direct_spp, /*with_indirect=*/false);
     r.timings.direct = direct.seconds;
     r.image = compose_image(gb, direct.direct, indirect, &r.n_conductor);
-    if (opt.glossy_samples < 0) LTM_THROW("neural render: glossy samples per pixel must be >= 0, got ", opt.glossy_samples);
-    if (model->directional && r.n_conductor > 0 && opt.glossy_samples > 0) {
+    if (model->directional && r.n_conductor > 0) {
+        if (opt.glossy_samples < 1) LTM_THROW("neural render: glossy samples per pixel must be >= 1, got ", opt.glossy_samples);
         const auto tg = Clock::now();
         shade_conductors(model, enc, pt, camera, gb, opt, r.image);
         r.glossy_from_head = true;

@@ -176,7 +176,9 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         } else {
             op = p, on = n;
         }
-        const float spacing = vis.voxel > 0.f && !(vis.splat_spacings > 0.f) ? 0.f : point_spacing(op);
+        // The points' spacing (an O(M²) search) only when a length is given in spacings.
+        const bool in_spacings = !(vis.voxel > 0.f) || vis.splat_spacings > 0.f;
+        const float spacing = in_spacings ? point_spacing(op) : 0.f;
         const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * spacing;
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters);
     }

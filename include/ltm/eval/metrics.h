@@ -31,7 +31,8 @@ double psnr(const Image &test, const Image &reference, double peak = 1.0);
 /// Relative MSE on linear HDR values (not tone mapped):
 ///   (1 / 3N) Σ_i Σ_c (t_ic − r_ic)² / (r_ic² + eps).
 /// eps keeps dark pixels from dominating; it is in squared image units (default 0.01).
-double rel_mse(const Image &test, const Image &reference, double eps = 1e-2);
+inline constexpr double k_rel_mse_eps = 1e-2;   ///< the evaluation protocol's eps (compare_images)
+double rel_mse(const Image &test, const Image &reference, double eps = k_rel_mse_eps);
 
 // ---- structural similarity ---------------------------------------------------------------------
 

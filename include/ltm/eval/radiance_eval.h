@@ -4,8 +4,9 @@
 //                  diffuse pixels, full path tracing on conductors;
 //   model:NAME     render_neural: Ê⁺ on diffuse pixels; on conductors NEE direct light + GGX samples
 //                  of the directional head's L̂⁺ (when the weights carry a head);
-//   model:NAME/diffuse-conductors   the same with conductors shaded as diffuse with their albedo
-//                  (the best an irradiance-only model can do): what the head adds;
+//   model:NAME/diffuse-conductors   the same render's E_direct and Ê⁺ with conductors shaded as
+//                  diffuse with their albedo (the best an irradiance-only model can do; its time is
+//                  the render's less the head's): what the head adds;
 //   ptN, pt-equal-time (spp scaled to the neural render's whole wall time), flat-oracle (every
 //                  hit pixel the reference's mean colour: a floor, not a method).
 // Metrics over all pixels (`all`) and over conductor pixels only (`conductors`, through

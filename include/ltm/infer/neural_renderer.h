@@ -78,7 +78,7 @@ struct NeuralRenderOptions {
     /// Conductor pixels, when the model has a directional head (paper Fig. 11): direct light by
     /// the path tracer's NEE + BSDF sampling with MIS (direct_spp samples), the indirect part
     /// ∫ f L̂⁺ cos dω by this many GGX samples, each the head's L̂⁺ in that direction. Without a
-    /// head, or with 0 samples, conductors are shaded as diffuse (n_conductor says how many).
+    /// head, conductors are shaded as diffuse (n_conductor says how many).
     int glossy_samples = 16;
 };
 /// The whole neural render of one view.
