@@ -3,11 +3,14 @@
 // setting: MSE and SSIM of the views (eval/metrics.h, as `ltm eval` computes them), views that
 // beat the flat oracle, level ratios in [0.8, 1.25], and the solve time. References come from the
 // same cache as `ltm eval --ref-cache` (identical key: scene, camera, spp and tracer seed), so
-//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F]] ...]
+//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B]]]] ...]
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
+// With PRIOR_ABLATION_PNG=DIR set, each view is also written as DIR/seed-N.png: reference | each
+// setting, tone mapped by the reference (eval/metrics.h) and enlarged 3×.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -15,7 +18,9 @@
 #include "ltm/core/log.h"
 #include "ltm/core/startup.h"
 #include "ltm/eval/eval_setup.h"
+#include "ltm/core/tonemap.h"
 #include "ltm/eval/field_metrics.h"
+#include "ltm/eval/image_grid.h"
 #include "ltm/eval/metrics.h"
 #include "ltm/eval/reference_cache.h"
 #include "ltm/points/transport_prior.h"
@@ -32,6 +37,8 @@ struct Setting {
     int clusters;
     float splat_spacings;   ///< VisibilityOptions::splat_spacings
     float area_factor;      ///< node area = factor · A / M
+    float disc_spacings;    ///< VisibilityOptions::disc_spacings
+    PriorBalance balance;   ///< 0 per channel, 1 grey, 2 none
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
@@ -41,7 +48,7 @@ struct Sums {
 
 int main(int argc, char **argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S[:F]] ...]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B]]]] ...]\n", argv[0]);
         return 1;
     }
     configure_process();
@@ -56,17 +63,21 @@ int main(int argc, char **argv) {
     for (int i = 5; i < argc; ++i) names.push_back(argv[i]);
     if (names.empty()) names = {"0:0", "2:1024", "2:2048", "2:4096", "1.5:2048", "3:2048"};
     for (const std::string &n : names) {
-        const size_t colon = n.find(':');
-        if (colon == std::string::npos) {
-            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F]]\n", n.c_str());
+        // Fields H:C[:S[:F[:D[:B]]]]: voxel edge, clusters, then optional the tangent splat, a factor on
+        // the node area a (with rows normalised and the power balance restored, a only sets the
+        // near-field term a/π) and a disc radius (points/disc_occluder.h), lengths in spacings.
+        std::vector<float> f;
+        for (size_t b = 0; b <= n.size();) {
+            const size_t e = std::min(n.find(':', b), n.size());
+            f.push_back(std::stof(n.substr(b, e - b)));
+            b = e + 1;
+        }
+        if (f.size() < 2 || f.size() > 6) {
+            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B]]]]\n", n.c_str());
             return 1;
         }
-        // Optional third and fourth fields: the tangent splat, and a factor on the node area a (with
-        // rows normalised and the power balance restored, a only sets the near-field term a/π).
-        const size_t colon2 = n.find(':', colon + 1), colon3 = colon2 == std::string::npos ? colon2 : n.find(':', colon2 + 1);
-        settings.push_back({n, std::stof(n.substr(0, colon)), std::stoi(n.substr(colon + 1, colon2 - colon - 1)),
-                            colon2 == std::string::npos ? 0.f : std::stof(n.substr(colon2 + 1, colon3 - colon2 - 1)),
-                            colon3 == std::string::npos ? 1.f : std::stof(n.substr(colon3 + 1))});
+        f.resize(6, 0.f);
+        settings.push_back({n, f[0], int(f[1]), f[2], f[3] > 0.f ? f[3] : 1.f, f[4], PriorBalance(int(f[5]))});
     }
     std::vector<Sums> sums(settings.size());
     try {
@@ -88,14 +99,18 @@ int main(int argc, char **argv) {
             const double flat_mse = compare_images(flat, ref).mse;
             const ScenePoints sp = sample_scene_points(accel, 8192, 0, true);
             const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
+            std::string per_setting;   // this view's MSE per setting, for the log
+            std::vector<Image> strip{ref};   // PRIOR_ABLATION_PNG=dir: reference | each setting, per view
             for (size_t s = 0; s < settings.size(); ++s) {
                 const auto t0 = std::chrono::steady_clock::now();
                 VisibilityOptions vis;
                 vis.voxel_spacings = settings[s].voxel_spacings;
                 if (settings[s].clusters > 0) vis.clusters = settings[s].clusters;
                 vis.splat_spacings = settings[s].splat_spacings;
+                vis.disc_spacings = settings[s].disc_spacings;
                 const TransportPrior prior =
-                    solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, 8, &sp.emission_scale, vis);
+                    solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, 8, &sp.emission_scale, vis,
+                                          nullptr, settings[s].balance);
                 std::vector<Vec3f> e(gb.n_hits());
                 gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
                 const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -104,10 +119,18 @@ int main(int argc, char **argv) {
                 Sums &x = sums[s];
                 x.mse += m.mse, x.ssim += m.ssim, x.seconds += secs, ++x.views;
                 x.beats_flat += m.mse < flat_mse, x.in_band += f.level_in_band();
+                per_setting += " " + std::to_string(m.mse);
+                strip.push_back(scatter_to_image(gb, e));
             }
-            std::fprintf(stderr, "seed %llu%s\n", (unsigned long long)seed, cached ? " (cached reference)" : "");
+            if (const char *dir = std::getenv("PRIOR_ABLATION_PNG")) {
+                const float scale = tonemap_scale(ref);
+                for (Image &im : strip) im = resize_nearest(tonemap(im, scale), 3 * size, 3 * size);
+                write_png(std::string(dir) + "/seed-" + std::to_string(seed) + ".png", hconcat(strip));
+            }
+            std::fprintf(stderr, "seed %llu%s: flat %.4f, MSE%s\n", (unsigned long long)seed, cached ? " (cached reference)" : "",
+                         flat_mse, per_setting.c_str());
         }
-        std::printf("| occlusion H:C[:S[:F]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        std::printf("| occlusion H:C[:S[:F[:D[:B]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
         for (size_t s = 0; s < settings.size(); ++s) {
             const Sums &x = sums[s];
             const double n = std::max(1, x.views);

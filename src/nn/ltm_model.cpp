@@ -49,7 +49,8 @@ PointSet scene_point_table(const torch::Tensor &rows) {
 // π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp that FPS
 // missed) uses every scene point as a node instead. With prior_visibility, occlusion from the
 // voxels of every scene point (points/point_visibility.h), edge prior_visibility × the points' own
-// spacing (measured from them, so the grid does not move with ℓ).
+// spacing (measured from them, so the grid does not move with ℓ); with prior_discs, segments are
+// tested against every scene point as a disc of that many spacings instead (the voxels size the clusters).
 std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
                                                       const SceneNormalization &n, const PhysicsConfig &physics) {
     torch::NoGradGuard no_grad;
@@ -64,9 +65,13 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
     VisibilityOptions vis;
     vis.voxel_spacings = physics.prior_visibility;   // in units of the points' own spacing: free of ℓ's FPS ties
     vis.clusters = physics.prior_clusters;
+    vis.disc_spacings = physics.prior_discs;
     const PointSet all = scene_point_table(framed);
     return std::make_shared<const TransportPrior>(
-        solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all));
+        solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all,
+                              physics.prior_balance == "none"   ? PriorBalance::none
+                              : physics.prior_balance == "grey" ? PriorBalance::grey
+                                                                : PriorBalance::per_channel));
 }
 
 // output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]

@@ -60,6 +60,10 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_visibility", &C::prior_visibility, "occlusion in the transport prior: voxel edge in point spacings (0 = none)", between(0, 64))
             .omit_default()
             .field("prior_clusters", &C::prior_clusters, "occlusion clusters of the transport prior (visibility is decided between them)", between(16, 16384))
+            .omit_default()
+            .field("prior_discs", &C::prior_discs, "occlusion in the transport prior by the scene points as discs of this radius in point spacings (0 = by the voxels)", between(0, 8))
+            .omit_default()
+            .field("prior_balance", &C::prior_balance, "the occluded transport prior's power balance: a gain per channel, one grey gain, or none", {}, {"channel", "grey", "none"})
             .omit_default();
     return f;
 }
@@ -103,6 +107,10 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
         c.physics = PhysicsConfig::fields().read(o.require("physics"), o.where("physics"), PhysicsConfig{}, [](JsonObject &ph, PhysicsConfig &p) {
             if (p.prior_clusters != PhysicsConfig{}.prior_clusters && !(p.prior_visibility > 0.f))
                 LTM_THROW(ph.where("prior_clusters"), ": occlusion clusters need prior_visibility > 0");
+            if (p.prior_balance != PhysicsConfig{}.prior_balance && !(p.prior_visibility > 0.f))
+                LTM_THROW(ph.where("prior_balance"), ": the power balance applies only with prior_visibility > 0");
+            if (p.prior_discs > 0.f && !(p.prior_visibility > 0.f))
+                LTM_THROW(ph.where("prior_discs"), ": occlusion discs need prior_visibility > 0");
             if (p.prior_visibility > 0.f && p.prior_field != "transport")
                 LTM_THROW(ph.where("prior_visibility"), ": only the \"transport\" prior has visibility");
             if (p.prior_nodes != "anchors" && p.prior_field != "transport")

@@ -75,7 +75,7 @@ void visibility_mask(const ClusterVisibility &v, uint32_t c, std::vector<float> 
 
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
-                                     float node_area, int bounces, ClusterVisibility visibility) {
+                                     float node_area, int bounces, ClusterVisibility visibility, PriorBalance balance) {
     const size_t m = position.size();
     if (m == 0) LTM_THROW("transport prior: no nodes");
     if (normal.size() != m || albedo.size() != m || radiance.size() != m)
@@ -124,7 +124,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
             for (size_t j = 0; j < m; ++j) out.exitance[j][c] += b[c][j];
         }
     }
-    if (!vis.empty()) {
+    if (!vis.empty() && balance != PriorBalance::none) {
         // Approximate occlusion breaks the closure that keeps power balanced: a falsely blocked far
         // node drops out of a row, the near ones gain, and the lit rooms recirculate too much light
         // (validation views: level 1.19). Restore the enclosure's balance per channel: the area mean
@@ -139,17 +139,20 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
             for (int c = 0; c < 3; ++c) mean_e[c] += dot8(row, ex[c].data(), m) / float(m);
             mean_rho += albedo[i] / float(m), mean_le += radiance[i] / float(m);
         }
+        Vec3f gain(0.f), target(0.f);
         for (int c = 0; c < 3; ++c) {
-            const double target = k_pi * double(mean_le[c]) * bounce_series(double(mean_rho[c]), bounces);
-            const float gain = mean_e[c] > 0.f ? float(target / double(mean_e[c])) : 0.f;
-            for (size_t j = 0; j < m; ++j) out.exitance[j][c] *= gain;
+            target[c] = float(k_pi * double(mean_le[c]) * bounce_series(double(mean_rho[c]), bounces));
+            gain[c] = mean_e[c] > 0.f ? target[c] / mean_e[c] : 0.f;
         }
+        if (balance == PriorBalance::grey)   // one gain: the luminance's
+            gain = Vec3f(luminance(mean_e) > 0.f ? luminance(target) / luminance(mean_e) : 0.f);
+        for (size_t j = 0; j < m; ++j) out.exitance[j] = out.exitance[j] * gain;
     }
     return out;
 }
 
 TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bounces, const Vec3f *emission_scale,
-                                     const VisibilityOptions &vis, const PointSet *occupancy) {
+                                     const VisibilityOptions &vis, const PointSet *occupancy, PriorBalance balance) {
     if (sp.columns != scene_point_columns()) LTM_THROW("transport prior: not a scene point table");
     const size_t m = sp.size();
     std::vector<Vec3f> p(m), n(m), rho(m), le(m);
@@ -177,12 +180,13 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
             op = p, on = n;
         }
         // The points' spacing (an O(M²) search) only when a length is given in spacings.
-        const bool in_spacings = !(vis.voxel > 0.f) || vis.splat_spacings > 0.f;
+        const bool in_spacings = !(vis.voxel > 0.f) || vis.splat_spacings > 0.f || vis.disc_spacings > 0.f;
         const float spacing = in_spacings ? point_spacing(op) : 0.f;
         const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * spacing;
-        v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters);
+        v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
+                               vis.disc_spacings > 0.f ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder());
     }
-    return solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v));
+    return solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance);
 }
 
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,

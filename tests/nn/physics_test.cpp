@@ -86,6 +86,18 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "clusters without occlusion";
     j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_clusters", 4}};
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "too few clusters";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 2.0}, {"prior_discs", 1.0}};
+    EXPECT_EQ(ModelConfig::from_json(j, "ok").to_json()["physics"]["prior_discs"].get<double>(), 1.0);
+    j["physics"] = {{"prior_field", "transport"}, {"prior_discs", 1.0}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "discs without occlusion";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_balance", "none"}};
+    EXPECT_EQ(ModelConfig::from_json(j, "ok").to_json()["physics"]["prior_balance"].get<std::string>(), "none");
+    j["physics"] = {{"prior_field", "transport"}, {"prior_balance", "none"}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "a balance without occlusion";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_balance", "off"}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "not a balance";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 2.0}, {"prior_discs", -1.0}};
+    EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error);
 }
 
 TEST(Physics, EmissionLinearityIsExactAndLegacyIsNot) {

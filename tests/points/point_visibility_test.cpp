@@ -238,3 +238,47 @@ TEST(PointVisibility, TangentSplatClosesTheHolesOfAFineGrid) {
     }
     EXPECT_GT(splat.n_solid(), sparse.n_solid());
 }
+
+// The power balance after occlusion (PriorBalance): "per channel" scales each channel of every
+// node's exitance by one gain so that the nodes' area mean of E⁺ meets π L̄ Σ ρ̄^k, "grey" by one
+// gain for all channels (luminance meets it, the solve's chroma stays), "none" keeps the solve.
+// Room B is coloured, so the three differ.
+TEST(PointVisibility, PowerBalanceModes) {
+    Points pts = two_rooms(true);
+    for (size_t i = 0; i < pts.p.size(); ++i)
+        if (pts.p[i].x > 2.1f) pts.rho[i] = Vec3f(0.8f, 0.3f, 0.1f);
+    const float h = 2.f * k_spacing;
+    auto solve_with = [&](PriorBalance b) {
+        return solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, k_spacing * k_spacing, 6,
+                                     cluster_visibility(pts.p, pts.n, VoxelOccupancy(pts.p, pts.n, h), 256), b);
+    };
+    const TransportPrior none = solve_with(PriorBalance::none), channel = solve_with(PriorBalance::per_channel),
+                         grey = solve_with(PriorBalance::grey);
+    auto ratio = [&](const TransportPrior &t, size_t j, int c) { return t.exitance[j][c] / none.exitance[j][c]; };
+    size_t j0 = 0;
+    while (!(none.exitance[j0].y > 0.f)) ++j0;
+    const Vec3f g_channel(ratio(channel, j0, 0), ratio(channel, j0, 1), ratio(channel, j0, 2));
+    const float g_grey = ratio(grey, j0, 0);
+    EXPECT_GT(std::abs(g_channel.x - g_channel.z), 1e-3f) << "the channels' gains differ here";
+    for (size_t j = 0; j < pts.p.size(); ++j) {
+        if (!(none.exitance[j].z > 1e-6f)) continue;
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(ratio(channel, j, c), g_channel[c], 1e-4f * g_channel[c]) << "node " << j;
+            EXPECT_NEAR(ratio(grey, j, c), g_grey, 1e-4f * g_grey) << "node " << j;
+        }
+    }
+    // The balance each mode meets at the nodes (equal areas).
+    const auto at = [&](const TransportPrior &t) {
+        const auto e = gather(t, pts.p, pts.n);
+        Vec3f mean(0.f);
+        for (size_t i = 0; i < pts.p.size(); ++i) mean += Vec3f(e[3 * i], e[3 * i + 1], e[3 * i + 2]) / float(pts.p.size());
+        return mean;
+    };
+    Vec3f target(0.f), rho(0.f), le(0.f);
+    for (size_t i = 0; i < pts.p.size(); ++i) rho += pts.rho[i] / float(pts.p.size()), le += pts.le[i] / float(pts.p.size());
+    for (int c = 0; c < 3; ++c) target[c] = float(k_pi) * le[c] * (1.f - std::pow(rho[c], 7.f)) / (1.f - rho[c]) - float(k_pi) * le[c];
+    const Vec3f mc = at(channel), mg = at(grey), mn = at(none);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(mc[c], target[c], 1e-3f * target[c]) << c;
+    EXPECT_NEAR(luminance(mg), luminance(target), 1e-3f * luminance(target));
+    EXPECT_GT(std::abs(luminance(mn) / luminance(target) - 1.f), 1e-3f) << "the unbalanced solve is off the closed-box value";
+}

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "ltm/core/math.h"
+#include "ltm/points/disc_occluder.h"
 
 namespace ltm {
 
@@ -72,6 +73,10 @@ struct VisibilityOptions {
     /// Tangent splat radius of each occupancy point (VoxelOccupancy) in units of the points'
     /// spacing; 0 = each point marks only its own voxel.
     float splat_spacings = 0.f;
+    /// > 0: segments are tested against the occupancy points as oriented discs of this radius in
+    /// units of the points' spacing (points/disc_occluder.h) instead of the voxels, which then only
+    /// size the cluster grid. 0 = voxels.
+    float disc_spacings = 0.f;
 };
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th
@@ -85,13 +90,17 @@ struct ClusterVisibility {
     std::vector<Vec3f> position, normal;   ///< [C] cluster centres (nodes)
     std::vector<uint32_t> node_cluster;    ///< [m] each node's cluster
     std::vector<uint8_t> visible;          ///< [C·C] symmetric; a cluster sees itself
-    VoxelOccupancy occupancy;              ///< what the segments are tested against
+    VoxelOccupancy occupancy;              ///< what the segments are tested against (and the cluster grid's size)
+    DiscOccluder discs;                    ///< when not empty, what the segments are tested against instead
     bool empty() const { return position.empty(); }
     size_t size() const { return position.size(); }
     /// The cluster of a receiver (p, n): of the 8 nearest centres whose normal is within 90° of n,
     /// the nearest it sees; else the nearest of them; the nearest of all when none faces that way.
     /// Ties to the lower index.
     uint32_t cluster_of(Vec3f p, Vec3f n) const;
+    /// Is the segment between two surface points (a, normal na) and (b, nb) blocked? Against the
+    /// discs when there are any, else against the voxels with both ends lifted h/2 along their normals.
+    bool blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const;
 };
 
 /// Clusters the m nodes and tests visibility between every pair of cluster centres against
@@ -108,6 +117,6 @@ struct ClusterVisibility {
 /// and a unit change by a power of two. O(m log m + m·C + C²·L/h). Deterministic at any thread count.
 /// Throws ltm::Error on mismatched sizes or bad options.
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &node_position, const std::vector<Vec3f> &node_normal,
-                                     VoxelOccupancy occupancy, int clusters);
+                                     VoxelOccupancy occupancy, int clusters, DiscOccluder discs = {});
 
 }  // namespace ltm

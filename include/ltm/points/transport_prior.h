@@ -36,6 +36,11 @@
 
 namespace ltm {
 
+/// How the occluded prior restores the enclosure's power balance (below): one gain per colour
+/// channel (each channel's area mean matches its own closed-box value), one gain for all channels
+/// (the luminance's; the solve's chroma is kept), or none.
+enum class PriorBalance { per_channel, grey, none };
+
 /// A solved prior: nodes and their bounce-summed exitance Σ_{k=1..D} B_k.
 struct TransportPrior {
     std::vector<Vec3f> position, normal;   ///< [m] nodes (unit normals)
@@ -49,7 +54,8 @@ struct TransportPrior {
 /// thread count. Throws ltm::Error on mismatched sizes, no nodes, node_area ≤ 0 or bounces < 0.
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
-                                     float node_area, int bounces, ClusterVisibility visibility = {});
+                                     float node_area, int bounces, ClusterVisibility visibility = {},
+                                     PriorBalance balance = PriorBalance::per_channel);
 
 /// Every scene point a node: scene_points [M, 12] (scene_point_columns()), node_area = A / M. With
 /// `emission_scale` (S_c = Φ_c/A, exact from the meshes) the points' radiance is rescaled per
@@ -57,7 +63,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
 /// vis.voxel > 0, occlusion from the occupancy of `occupancy` (all scene points; null: the nodes).
 TransportPrior solve_transport_prior(const PointSet &scene_points, float node_area, int bounces,
                                      const Vec3f *emission_scale = nullptr, const VisibilityOptions &vis = {},
-                                     const PointSet *occupancy = nullptr);
+                                     const PointSet *occupancy = nullptr, PriorBalance balance = PriorBalance::per_channel);
 
 /// E⁺ at n receivers: position and normal as float arrays [n, 3] (any stride ≥ 3 floats between
 /// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m), deterministic.

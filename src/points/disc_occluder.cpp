@@ -1,0 +1,124 @@
+// disc_occluder.cpp: oriented discs binned in a cube grid, segments walked by a 3D DDA (header).
+#include "ltm/points/disc_occluder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "ltm/core/error.h"
+
+namespace ltm {
+
+namespace {
+constexpr float k_grazing = 0.05f;   // |cos| below which a segment runs along a disc, not into it
+constexpr float k_end_margin = 0.25f;   // ε = r/4: hits this close to an end belong to that end's surface
+}  // namespace
+
+DiscOccluder::DiscOccluder(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float radius)
+    : m_r(radius), m_center(points), m_normal(normals) {
+    if (points.empty()) LTM_THROW("disc occluder: no points");
+    if (normals.size() != points.size()) LTM_THROW("disc occluder: ", points.size(), " points but ", normals.size(), " normals");
+    if (!(radius > 0.f) || !std::isfinite(radius)) LTM_THROW("disc occluder: radius must be > 0, got ", radius);
+    Vec3f lo = points.front(), hi = points.front();
+    for (const Vec3f &p : points) lo = min(lo, p), hi = max(hi, p);
+    const float cell = 2.f * m_r;
+    m_origin = lo - Vec3f(m_r);
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) {
+        m_dim[a] = std::max(1, int(std::ceil(double(hi[a] - lo[a] + 2.f * m_r) / double(cell))));
+        cells *= double(m_dim[a]);
+    }
+    if (!(cells <= double(1 << 28)))
+        LTM_THROW("disc occluder: the scene is too large for the prior's discs of radius ", radius, " (", cells, " grid cells, at most 2^28)");
+    // Each disc into every cell its bounding box overlaps (half-extent r·√(1 − n_a²) along axis a).
+    auto cell_range = [&](size_t k, int lo_c[3], int hi_c[3]) {
+        for (int a = 0; a < 3; ++a) {
+            const float e = m_r * std::sqrt(std::max(0.f, 1.f - m_normal[k][a] * m_normal[k][a]));
+            lo_c[a] = std::clamp(int(std::floor((m_center[k][a] - e - m_origin[a]) / cell)), 0, m_dim[a] - 1);
+            hi_c[a] = std::clamp(int(std::floor((m_center[k][a] + e - m_origin[a]) / cell)), 0, m_dim[a] - 1);
+        }
+    };
+    std::vector<uint32_t> count(size_t(cells) + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            m_cell_start.assign(count.size(), 0);
+            for (size_t c = 0; c + 1 < count.size(); ++c) m_cell_start[c + 1] = m_cell_start[c] + count[c];
+            m_cell_disc.resize(m_cell_start.back());
+            std::fill(count.begin(), count.end(), 0);
+        }
+        for (size_t k = 0; k < m_center.size(); ++k) {
+            int lo_c[3], hi_c[3], c[3];
+            cell_range(k, lo_c, hi_c);
+            for (c[2] = lo_c[2]; c[2] <= hi_c[2]; ++c[2])
+                for (c[1] = lo_c[1]; c[1] <= hi_c[1]; ++c[1])
+                    for (c[0] = lo_c[0]; c[0] <= hi_c[0]; ++c[0]) {
+                        const size_t i = size_t(cell_index(c));
+                        if (pass == 1) m_cell_disc[m_cell_start[i] + count[i]] = uint32_t(k);
+                        ++count[i];
+                    }
+        }
+    }
+}
+
+bool DiscOccluder::hits(uint32_t k, Vec3f a, Vec3f d, float t0, float t1) const {
+    const Vec3f n = m_normal[k];
+    const float denom = dot(n, d);
+    if (!(denom < -k_grazing * length(d))) return false;   // from behind, or along the disc
+    const float t = dot(n, m_center[k] - a) / denom;
+    if (!(t > t0 && t < t1)) return false;
+    const Vec3f q = a + d * t - m_center[k];
+    return dot(q, q) < m_r * m_r;
+}
+
+bool DiscOccluder::blocked(Vec3f a, Vec3f b) const {
+    if (empty()) return false;
+    const Vec3f d = b - a;
+    const float len = length(d);
+    const float margin = k_end_margin * m_r;
+    if (!(len > 2.f * margin)) return false;
+    const float t0 = margin / len, t1 = 1.f - margin / len;
+    // Clip [t0, t1] to the grid's box (slabs).
+    const float cell = 2.f * m_r;
+    float tmin = t0, tmax = t1;
+    for (int ax = 0; ax < 3; ++ax) {
+        const float box_lo = m_origin[ax], box_hi = m_origin[ax] + cell * float(m_dim[ax]);
+        if (d[ax] == 0.f) {
+            if (a[ax] < box_lo || a[ax] > box_hi) return false;
+            continue;
+        }
+        float ta = (box_lo - a[ax]) / d[ax], tb = (box_hi - a[ax]) / d[ax];
+        if (ta > tb) std::swap(ta, tb);
+        tmin = std::max(tmin, ta), tmax = std::min(tmax, tb);
+    }
+    if (!(tmin <= tmax)) return false;
+    // 3D DDA from the clipped start.
+    const Vec3f start = a + d * tmin;
+    int c[3], step[3];
+    float t_next[3], t_delta[3];
+    for (int ax = 0; ax < 3; ++ax) {
+        c[ax] = std::clamp(int(std::floor((start[ax] - m_origin[ax]) / cell)), 0, m_dim[ax] - 1);
+        if (d[ax] > 0.f) {
+            step[ax] = 1, t_delta[ax] = cell / d[ax];
+            t_next[ax] = (m_origin[ax] + cell * float(c[ax] + 1) - a[ax]) / d[ax];
+        } else if (d[ax] < 0.f) {
+            step[ax] = -1, t_delta[ax] = -cell / d[ax];
+            t_next[ax] = (m_origin[ax] + cell * float(c[ax]) - a[ax]) / d[ax];
+        } else {
+            step[ax] = 0, t_delta[ax] = 0.f, t_next[ax] = std::numeric_limits<float>::infinity();
+        }
+    }
+    for (;;) {
+        const size_t i = size_t(cell_index(c));
+        for (uint32_t s = m_cell_start[i]; s < m_cell_start[i + 1]; ++s)
+            if (hits(m_cell_disc[s], a, d, t0, t1)) return true;
+        int ax = 0;
+        if (t_next[1] < t_next[ax]) ax = 1;
+        if (t_next[2] < t_next[ax]) ax = 2;
+        if (!(t_next[ax] <= tmax)) return false;
+        c[ax] += step[ax];
+        if (c[ax] < 0 || c[ax] >= m_dim[ax]) return false;
+        t_next[ax] += t_delta[ax];
+    }
+}
+
+}  // namespace ltm
