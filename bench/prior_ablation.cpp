@@ -3,7 +3,7 @@
 // setting: MSE and SSIM of the views (eval/metrics.h, as `ltm eval` computes them), views that
 // beat the flat oracle, level ratios in [0.8, 1.25], and the solve time. References come from the
 // same cache as `ltm eval --ref-cache` (identical key: scene, camera, spp and tracer seed), so
-//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B]]]] ...]
+//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K]]]]] ...]
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
 // With PRIOR_ABLATION_PNG=DIR set, each view is also written as DIR/seed-N.png: reference | each
 // setting, tone mapped by the reference (eval/metrics.h) and enlarged 3×.
@@ -39,6 +39,7 @@ struct Setting {
     float area_factor;      ///< node area = factor · A / M
     float disc_spacings;    ///< VisibilityOptions::disc_spacings
     PriorBalance balance;   ///< 0 per channel, 1 grey, 2 none
+    int bounces;            ///< D (default 8, as configs/model/cpu-tp.json)
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
@@ -48,7 +49,7 @@ struct Sums {
 
 int main(int argc, char **argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B]]]] ...]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K]]]]] ...]\n", argv[0]);
         return 1;
     }
     configure_process();
@@ -63,7 +64,7 @@ int main(int argc, char **argv) {
     for (int i = 5; i < argc; ++i) names.push_back(argv[i]);
     if (names.empty()) names = {"0:0", "2:1024", "2:2048", "2:4096", "1.5:2048", "3:2048"};
     for (const std::string &n : names) {
-        // Fields H:C[:S[:F[:D[:B]]]]: voxel edge, clusters, then optional the tangent splat, a factor on
+        // Fields H:C[:S[:F[:D[:B[:K]]]]]: voxel edge, clusters, then optional the tangent splat, a factor on
         // the node area a (with rows normalised and the power balance restored, a only sets the
         // near-field term a/π) and a disc radius (points/disc_occluder.h), lengths in spacings.
         std::vector<float> f;
@@ -72,12 +73,12 @@ int main(int argc, char **argv) {
             f.push_back(std::stof(n.substr(b, e - b)));
             b = e + 1;
         }
-        if (f.size() < 2 || f.size() > 6) {
-            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B]]]]\n", n.c_str());
+        if (f.size() < 2 || f.size() > 7) {
+            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B[:K]]]]]\n", n.c_str());
             return 1;
         }
-        f.resize(6, 0.f);
-        settings.push_back({n, f[0], int(f[1]), f[2], f[3] > 0.f ? f[3] : 1.f, f[4], PriorBalance(int(f[5]))});
+        f.resize(7, 0.f);
+        settings.push_back({n, f[0], int(f[1]), f[2], f[3] > 0.f ? f[3] : 1.f, f[4], PriorBalance(int(f[5])), f[6] > 0.f ? int(f[6]) : 8});
     }
     std::vector<Sums> sums(settings.size());
     try {
@@ -109,7 +110,7 @@ int main(int argc, char **argv) {
                 vis.splat_spacings = settings[s].splat_spacings;
                 vis.disc_spacings = settings[s].disc_spacings;
                 const TransportPrior prior =
-                    solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, 8, &sp.emission_scale, vis,
+                    solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, settings[s].bounces, &sp.emission_scale, vis,
                                           nullptr, settings[s].balance);
                 std::vector<Vec3f> e(gb.n_hits());
                 gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
@@ -130,7 +131,7 @@ int main(int argc, char **argv) {
             std::fprintf(stderr, "seed %llu%s: flat %.4f, MSE%s\n", (unsigned long long)seed, cached ? " (cached reference)" : "",
                          flat_mse, per_setting.c_str());
         }
-        std::printf("| occlusion H:C[:S[:F[:D[:B]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        std::printf("| occlusion H:C[:S[:F[:D[:B[:K]]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none : bounces) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
         for (size_t s = 0; s < settings.size(); ++s) {
             const Sums &x = sums[s];
             const double n = std::max(1, x.views);

@@ -173,11 +173,12 @@ uint32_t ClusterVisibility::cluster_of(Vec3f p, Vec3f n) const {
 }
 
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::vector<Vec3f> &nrm, VoxelOccupancy occupancy,
-                                     int clusters, DiscOccluder discs) {
+                                     int clusters, DiscOccluder discs, float cell) {
     const size_t m = pos.size();
     if (m == 0) LTM_THROW("cluster visibility: no nodes");
     if (nrm.size() != m) LTM_THROW("cluster visibility: ", m, " positions but ", nrm.size(), " normals");
     if (clusters < 1) LTM_THROW("cluster visibility: clusters must be >= 1, got ", clusters);
+    if (!(cell >= 0.f) || !std::isfinite(cell)) LTM_THROW("cluster visibility: cluster cell must be >= 0, got ", cell);
     if (!(occupancy.voxel() > 0.f)) LTM_THROW("cluster visibility: no occupancy grid");
     ClusterVisibility out;
     out.occupancy = std::move(occupancy);
@@ -187,7 +188,8 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
     // ~2·n_solid/C fine voxels of a surface, i.e. ~C (cell, facing) groups: a cell often holds two
     // facings (a wall's two sides, furniture).
     const float h = out.occupancy.voxel();
-    const double g = double(h) * std::sqrt(2.0 * double(std::max<int64_t>(out.occupancy.n_solid(), 1)) / double(clusters));
+    const double g = cell > 0.f ? double(cell)
+                                : double(h) * std::sqrt(2.0 * double(std::max<int64_t>(out.occupancy.n_solid(), 1)) / double(clusters));
     const Vec3f c0 = out.occupancy.center();
     struct Member {
         int64_t cell[3];

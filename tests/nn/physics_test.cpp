@@ -47,13 +47,16 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     for (const char *name : {"tiny", "cpu", "cpu-ti", "cpu-tp", "paper", "cpu_vanilla", "cpu_knn_mean"}) {
         const ModelConfig c = ModelConfig::from_file(test::source_path(std::string("configs/model/") + name + ".json"));
         const bool tp = std::string(name) == "cpu-tp";
-        EXPECT_TRUE(c.physics.emission_scale && c.physics.length_scale && c.physics.prior_bounces == (tp ? 8 : 5)) << name;
+        // Every preset sums D = 5 bounces, as the path-traced references (PathTracerConfig::max_depth).
+        EXPECT_TRUE(c.physics.emission_scale && c.physics.length_scale && c.physics.prior_bounces == 5) << name;
         EXPECT_EQ(c.physics.translation_invariant, std::string(name) == "cpu-ti" || tp) << name;
         EXPECT_EQ(c.physics.prior_field, tp ? "transport" : "flat") << name;
         EXPECT_EQ(c.to_json()["physics"].contains("prior_field"), tp) << "written only when not flat: " << name;
         EXPECT_EQ(c.physics.prior_nodes, tp ? "points" : "anchors") << name;
         EXPECT_EQ(c.to_json()["physics"].contains("prior_nodes"), tp) << "written only when not anchors: " << name;
         EXPECT_EQ(c.physics.prior_visibility, tp ? 1.f : 0.f) << name;
+        EXPECT_EQ(c.physics.prior_discs, tp ? 1.f : 0.f) << name;
+        EXPECT_EQ(c.physics.prior_balance, tp ? "none" : "channel") << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
     Json j = parse_json(ModelConfig::from_file(test::source_path("configs/model/tiny.json")).to_json().dump(), "t");
