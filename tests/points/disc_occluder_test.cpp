@@ -111,12 +111,12 @@ TEST(DiscOccluder, FollowsTheSceneUnderSymmetriesAndTheUnit) {
     const DiscOccluder occ(room.p, room.n, k_s);
     auto check = [&](auto map, float scale, const char *what) {
         Discs m = room;
-        for (size_t i = 0; i < m.p.size(); ++i) m.p[i] = map(room.p[i]) * scale, m.n[i] = map(room.n[i]);
+        test::map_points(m.p, m.n, map, scale);
         const DiscOccluder o(m.p, m.n, k_s * scale);
         int same = 0, differ = 0;
         for (size_t i = 0; i < 2000; ++i) {
             const Vec3f a = random_point(i, 40, -0.3f, 2.3f), b = random_point(i, 50, -0.3f, 2.3f);
-            // Hits within rounding of a disc's rim or its end margin may flip: skip those.
+            // A hit within rounding of a disc's rim or of the end margin may flip: allow two.
             if (occ.blocked(a, b) == o.blocked(map(a) * scale, map(b) * scale)) ++same;
             else ++differ;
         }

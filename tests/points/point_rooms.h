@@ -31,6 +31,12 @@ template <class Jitter, class Visit> void for_each_face_cell(Vec3f lo, Vec3f siz
     }
 }
 
+/// Maps a point set in place by a symmetry `map` (a rotation or mirror, applied to positions and
+/// normals) and a change of unit `scale` (positions only): the training symmetries' tests.
+template <class Map> void map_points(std::vector<Vec3f> &p, std::vector<Vec3f> &n, Map map, float scale) {
+    for (size_t i = 0; i < p.size(); ++i) p[i] = map(p[i]) * scale, n[i] = map(n[i]);
+}
+
 /// The jitter of cells at their exact centres.
 inline std::pair<float, float> no_jitter() { return {0.f, 0.f}; }
 

@@ -113,7 +113,7 @@ TEST(PointVisibility, SymmetricUnderTheTrainingSymmetriesAndTheUnit) {
     const auto e = gather(solve(base, h), qp, qn);
     auto check = [&](auto map, float scale, const char *what) {
         Points m = base;
-        for (size_t i = 0; i < m.p.size(); ++i) m.p[i] = map(base.p[i]) * scale, m.n[i] = map(base.n[i]);
+        test::map_points(m.p, m.n, map, scale);
         const VoxelOccupancy o(m.p, m.n, h * scale);
         int same = 0, n = 0;
         for (int i = 0; i < 4000; ++i) {
