@@ -169,7 +169,11 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     const auto x = normalize_scene_points(scene_points, out.norm);
     const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
-    out.features = encoder->forward(tokens, out.anchors);                         // [m, C]
+    if (fold_prior && !torch::GradMode::is_enabled() && !directional && decoder->at_prior())
+        // The decoder's output does not depend on the latents (fold_prior in the header).
+        out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, tokens.options());
+    else
+        out.features = encoder->forward(tokens, out.anchors);                     // [m, C]
     return out;
 }
 
@@ -193,6 +197,18 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
     PredictTimings local;
     auto t = clock::now();
+    if (fold_prior && decoder->at_prior()) {
+        // z = softplus(0) at every query (fold_prior in the header): only the prior is gathered.
+        std::vector<torch::Tensor> parts;
+        for (int64_t s = 0; s < query_points.size(0); s += chunk) {
+            const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
+            const auto z = torch::softplus(torch::zeros({qp.size(0), 3}, qp.options()));
+            parts.push_back(irradiance_from_z(z, output_scale(qp, latents.norm)));
+        }
+        local.decode += since(t);
+        if (timings) timings->decode += local.decode;
+        return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
+    }
     std::optional<FusedDecoder> fused;
     if (fused_inference && cfg.decoder.type == "attention" && query_points.is_cpu() && latents.features.is_cpu()) {
         fused.emplace(*decoder);   // rebuilt per call: ~0.1 M floats, negligible next to decoding

@@ -44,6 +44,13 @@ void QueryDecoderImpl::start_at_prior() {
     last->bias.zero_();
 }
 
+bool QueryDecoderImpl::at_prior() const {
+    const auto *last = out->ptr(out->size() - 1)->as<torch::nn::LinearImpl>();
+    if (last == nullptr) return false;
+    torch::NoGradGuard no_grad;
+    return !last->weight.any().item<bool>() && !last->bias.any().item<bool>();
+}
+
 QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) : cfg(c) {
     embed = register_module("embed", make_mlp(9, cfg.dim, cfg.dim));
     out = register_module("out", torch::nn::Sequential(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})),

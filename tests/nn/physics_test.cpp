@@ -379,3 +379,44 @@ TEST(Loss, RelativeL2IsMinimisedByTheMeanOfNoisyTargets) {
     EXPECT_NEAR(relative_l2_loss(p * 1000.f, y * 1000.f).item<double>(), relative_l2_loss(p, y).item<double>(), 1e-6);
 }
 
+
+// fold_prior: a model whose output layer is exactly zero is its prior, and inference folds that
+// constant (no encoder, no decoder) to the same numbers; a model with any non-zero output weight
+// runs the network; training (autograd on) always runs the encoder.
+TEST(Physics, FoldedPriorModelGivesTheNetworksNumbers) {
+    Fixture f;
+    f.cfg.physics.prior_field = "transport";
+    f.cfg.physics.prior_nodes = "points";
+    f.cfg.physics.prior_visibility = 1.f;
+    f.cfg.physics.prior_discs = 1.f;
+    f.cfg.physics.prior_balance = "none";
+    LtmModel m = make_model(f.cfg, 7);
+    EXPECT_FALSE(m->decoder->at_prior());
+    m->decoder->start_at_prior();
+    EXPECT_TRUE(m->decoder->at_prior());
+    torch::NoGradGuard no_grad;
+    const SceneGeometry g = m->scene_geometry(f.sp);
+    const SceneLatents folded = m->encode(f.sp, g);
+    EXPECT_EQ(folded.features.abs().max().item<float>(), 0.f) << "the encoder was skipped";
+    const auto fast = m->predict_irradiance(f.qp, folded);
+    m->fold_prior = false;
+    const SceneLatents full = m->encode(f.sp, g);
+    EXPECT_GT(full.features.abs().max().item<float>(), 0.f) << "the encoder ran";
+    for (bool fused : {true, false}) {
+        m->fused_inference = fused;
+        EXPECT_TRUE(torch::allclose(m->predict_irradiance(f.qp, full), fast, 1e-6, 0.0)) << "fused " << fused;
+    }
+    // One non-zero output weight: not at the prior, the network runs and the numbers differ.
+    m->fold_prior = true;
+    auto *last = m->decoder->out[m->decoder->out->size() - 1]->as<torch::nn::LinearImpl>();
+    last->bias[0] = 0.5f;
+    EXPECT_FALSE(m->decoder->at_prior());
+    EXPECT_GT(m->encode(f.sp, g).features.abs().max().item<float>(), 0.f);
+    EXPECT_GT(relative_error(m->predict_irradiance(f.qp, m->encode(f.sp, g)), fast), 1e-3);
+    // With autograd on (training) the encoder always runs.
+    last->bias.zero_();
+    {
+        torch::AutoGradMode grad(true);
+        EXPECT_GT(m->encode(f.sp, g).features.abs().max().item<float>(), 0.f);
+    }
+}

@@ -53,6 +53,9 @@ struct QueryDecoderImpl : torch::nn::Module {
     /// model predicts exactly its prior (output_scale) — a start at the closed form, from which
     /// training only has to learn the correction. Gradients still reach every layer after the first step.
     void start_at_prior();
+    /// Is 𝓦_out's last Linear exactly zero (weight and bias)? Then z = softplus(0) for every query,
+    /// whatever the latents: the model is its prior (LtmModelImpl folds that constant).
+    bool at_prior() const;
     torch::nn::Sequential embed{nullptr}, out{nullptr};            // 𝓗 (eq. 9) and 𝓦_out (eq. 14)
     torch::nn::Sequential pos_mlp{nullptr};                        // γ(Δp) (eq. 10): Linear → ReLU → Linear
     CrossAttentionBlocks blocks;                                   // attention decoder only
