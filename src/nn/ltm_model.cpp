@@ -167,13 +167,14 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     SceneLatents out;
     out.norm = scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
     const auto x = normalize_scene_points(scene_points, out.norm);
-    const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
-    if (fold_prior && !torch::GradMode::is_enabled() && !directional && decoder->at_prior())
+    if (fold_prior && !torch::GradMode::is_enabled() && !directional && decoder->at_prior()) {
         // The decoder's output does not depend on the latents (fold_prior in the header).
-        out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, tokens.options());
-    else
-        out.features = encoder->forward(tokens, out.anchors);                     // [m, C]
+        out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
+        return out;
+    }
+    const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
+    out.features = encoder->forward(tokens, out.anchors);                         // [m, C]
     return out;
 }
 

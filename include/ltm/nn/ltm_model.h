@@ -103,7 +103,7 @@ struct LtmModelImpl : torch::nn::Module {
     DirectionalDecoder directional{nullptr};   ///< null unless cfg.directional
     bool fused_inference = true;   ///< predict_irradiance on CPU uses FusedDecoder (false: libtorch modules)
     /// Constant folding of a model that is its prior (decoder->at_prior(): the output layer exactly
-    /// zero, as --start-at-prior leaves it): without autograd, encode() skips the encoder (features
+    /// zero, as --start-at-prior leaves it): without autograd, encode() skips the embedding and encoder (features
     /// = zeros; no directional head to feed) and predict_irradiance() skips kNN and the decoder,
     /// whose output is then softplus(0) whatever its input. Same numbers, ~1.5 s less per 512²
     /// frame (docs/performance.md). false: always run the network.
