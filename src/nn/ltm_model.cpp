@@ -50,7 +50,7 @@ PointSet scene_point_table(const torch::Tensor &rows) {
 // missed) uses every scene point as a node instead. With prior_visibility, occlusion from the
 // voxels of every scene point (points/point_visibility.h), edge prior_visibility × the points' own
 // spacing (measured from them, so the grid does not move with ℓ); with prior_discs, segments are
-// tested against every scene point as a disc of that many spacings instead (the voxels size the clusters).
+// tested against every scene point as a disc of that many spacings instead.
 std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
                                                       const SceneNormalization &n, const PhysicsConfig &physics) {
     torch::NoGradGuard no_grad;

@@ -107,7 +107,7 @@ struct PhysicsConfig {
     int prior_clusters = 1024;
     /// > 0: the prior's segments are tested against the scene points as oriented discs of this
     /// radius in point spacings (points/disc_occluder.h; no false occlusion along edges) instead of
-    /// the voxels, which then only size the clusters. 0 = voxels. Only with prior_visibility > 0.
+    /// the voxels (whose edge then no longer matters). 0 = voxels. Only with prior_visibility > 0.
     float prior_discs = 0.f;
     /// How the occluded prior restores the enclosure's power balance (PriorBalance): "channel"
     /// (v0.6–v0.8: the area mean of each channel set to π L̄ Σ ρ̄^k), "grey" (one gain for all

@@ -74,8 +74,9 @@ struct VisibilityOptions {
     /// spacing; 0 = each point marks only its own voxel.
     float splat_spacings = 0.f;
     /// > 0: segments are tested against the occupancy points as oriented discs of this radius in
-    /// units of the points' spacing (points/disc_occluder.h) instead of the voxels, which then only
-    /// size the cluster grid. 0 = voxels.
+    /// units of the points' spacing (points/disc_occluder.h) instead of the voxels; the voxel grid
+    /// then only supplies the cluster grid's centre (its edge comes from the points' spacing and
+    /// count, transport_prior.cpp). 0 = voxels.
     float disc_spacings = 0.f;
 };
 
