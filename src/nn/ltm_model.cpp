@@ -168,7 +168,9 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     out.norm = scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
     const auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
-    if (fold_prior && !torch::GradMode::is_enabled() && !directional && decoder->at_prior()) {
+    // (Non-finite scene points take the network's path, which reports them.)
+    if (fold_prior && !torch::GradMode::is_enabled() && !directional && decoder->at_prior() &&
+        torch::isfinite(scene_points).all().item<bool>()) {
         // The decoder's output does not depend on the latents (fold_prior in the header).
         out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
         return out;

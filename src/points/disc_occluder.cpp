@@ -20,20 +20,23 @@ DiscOccluder::DiscOccluder(const std::vector<Vec3f> &points, const std::vector<V
     if (normals.size() != points.size()) LTM_THROW("disc occluder: ", points.size(), " points but ", normals.size(), " normals");
     if (!(radius > 0.f) || !std::isfinite(radius)) LTM_THROW("disc occluder: radius must be > 0, got ", radius);
     Vec3f lo = points.front(), hi = points.front();
-    for (const Vec3f &p : points) lo = min(lo, p), hi = max(hi, p);
+    for (const Vec3f &p : points) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) LTM_THROW("disc occluder: a point is not finite");
+        lo = min(lo, p), hi = max(hi, p);
+    }
     const float cell = 2.f * m_r;
     m_origin = lo - Vec3f(m_r);
-    double cells = 1;
-    for (int a = 0; a < 3; ++a) {
-        m_dim[a] = std::max(1, int(std::ceil(double(hi[a] - lo[a] + 2.f * m_r) / double(cell))));
-        cells *= double(m_dim[a]);
-    }
+    // Cells per axis in double, checked before any cast to int (a tiny radius overflows int).
+    double dims[3], cells = 1;
+    for (int a = 0; a < 3; ++a) dims[a] = std::max(1.0, std::ceil((double(hi[a]) - double(lo[a]) + 2.0 * double(m_r)) / double(cell))), cells *= dims[a];
     if (!(cells <= double(1 << 28)))
         LTM_THROW("disc occluder: the scene is too large for the prior's discs of radius ", radius, " (", cells, " grid cells, at most 2^28)");
+    for (int a = 0; a < 3; ++a) m_dim[a] = int(dims[a]);
     // Each disc into every cell its bounding box overlaps (half-extent r·√(1 − n_a²) along axis a).
     auto cell_range = [&](size_t k, int lo_c[3], int hi_c[3]) {
         for (int a = 0; a < 3; ++a) {
-            const float e = m_r * std::sqrt(std::max(0.f, 1.f - m_normal[k][a] * m_normal[k][a]));
+            // Padded by 10⁻⁴ of a cell: the walk's accumulated rounding may step past a corner cell.
+            const float e = m_r * std::sqrt(std::max(0.f, 1.f - m_normal[k][a] * m_normal[k][a])) + 1e-4f * cell;
             lo_c[a] = std::clamp(int(std::floor((m_center[k][a] - e - m_origin[a]) / cell)), 0, m_dim[a] - 1);
             hi_c[a] = std::clamp(int(std::floor((m_center[k][a] + e - m_origin[a]) / cell)), 0, m_dim[a] - 1);
         }
@@ -75,7 +78,7 @@ bool DiscOccluder::blocked(Vec3f a, Vec3f b) const {
     const Vec3f d = b - a;
     const float len = length(d);
     const float margin = k_end_margin * m_r;
-    if (!(len > 2.f * margin)) return false;
+    if (!(len > 2.f * margin) || !std::isfinite(len)) return false;
     const float t0 = margin / len, t1 = 1.f - margin / len;
     // Clip [t0, t1] to the grid's box (slabs).
     const float cell = 2.f * m_r;

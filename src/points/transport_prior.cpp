@@ -141,8 +141,9 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         }
         Vec3f gain(0.f), target(0.f);
         for (int c = 0; c < 3; ++c) {
-            target[c] = float(k_pi * double(mean_le[c]) * bounce_series(double(mean_rho[c]), bounces));
-            gain[c] = mean_e[c] > 0.f ? target[c] / mean_e[c] : 0.f;
+            const double t = k_pi * double(mean_le[c]) * bounce_series(double(mean_rho[c]), bounces);
+            target[c] = float(t);
+            gain[c] = mean_e[c] > 0.f ? float(t / double(mean_e[c])) : 0.f;   // in double, as before v0.9
         }
         if (balance == PriorBalance::grey)   // one gain: the luminance's
             gain = Vec3f(luminance(mean_e) > 0.f ? luminance(target) / luminance(mean_e) : 0.f);

@@ -94,7 +94,10 @@ TEST(DiscOccluder, GridWalkAgreesWithEveryDisc) {
         int blocked = 0;
         for (size_t i = 0; i < 3000; ++i) {
             // Segments anywhere in and around the room, including ones that leave the grid.
-            const Vec3f a = random_point(i, 20, -0.5f, 2.5f), b = random_point(i, 30, -0.5f, 2.5f);
+            Vec3f a = random_point(i, 20, -0.5f, 2.5f), b = random_point(i, 30, -0.5f, 2.5f);
+            if (i % 5 == 1) b[int(i / 5) % 3] = a[int(i / 5) % 3];                // parallel to a cell plane
+            if (i % 5 == 2) b.x = a.x, b.z = a.z;                                 // along one axis
+            if (i % 5 == 3) a.y = b.y = 2.f * k_s * float(i % 7) - 0.5f;         // level: d.y = 0
             const bool grid = occ.blocked(a, b);
             ASSERT_EQ(grid, brute_blocked(room, r, a, b)) << "r " << r << " segment " << i;
             blocked += grid;
@@ -135,6 +138,10 @@ TEST(DiscOccluder, BadInputIsAnError) {
     EXPECT_THROW(DiscOccluder(room.p, room.n, 0.f), Error);
     EXPECT_THROW(DiscOccluder(room.p, room.n, NAN), Error);
     EXPECT_THROW(DiscOccluder(room.p, room.n, 1e-7f), Error) << "too many cells";
+    EXPECT_THROW(DiscOccluder(room.p, room.n, 1e-10f), Error) << "more cells per axis than an int holds";
+    std::vector<Vec3f> bad = room.p;
+    bad[3].y = INFINITY;
+    EXPECT_THROW(DiscOccluder(bad, room.n, 0.1f), Error) << "a point not finite";
     EXPECT_FALSE(DiscOccluder().blocked(Vec3f(0.f), Vec3f(1.f))) << "no discs block nothing";
     const DiscOccluder occ(room.p, room.n, k_s);
     EXPECT_FALSE(occ.blocked(Vec3f(1.f), Vec3f(1.f))) << "a zero-length segment";
