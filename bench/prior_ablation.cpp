@@ -9,16 +9,16 @@
 // setting, tone mapped by the reference (eval/metrics.h) and enlarged 3×.
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "ltm/core/log.h"
 #include "ltm/core/startup.h"
-#include "ltm/eval/eval_setup.h"
 #include "ltm/core/tonemap.h"
+#include "ltm/eval/eval_setup.h"
 #include "ltm/eval/field_metrics.h"
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/metrics.h"
@@ -32,14 +32,14 @@ using namespace ltm;
 
 namespace {
 struct Setting {
-    std::string name;   ///< "H:C[:S]"; "0:0" = no occlusion
+    std::string name;   ///< "H:C[:S[:F[:D[:B[:K]]]]]"; "0:0" = no occlusion
     float voxel_spacings;
     int clusters;
     float splat_spacings;   ///< VisibilityOptions::splat_spacings
     float area_factor;      ///< node area = factor · A / M
     float disc_spacings;    ///< VisibilityOptions::disc_spacings
     PriorBalance balance;   ///< 0 per channel, 1 grey, 2 none
-    int bounces;            ///< D (default 8, as configs/model/cpu-tp.json)
+    int bounces;            ///< D (default 8, as cpu-tp.json until v0.8; v0.9 uses 5)
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
@@ -58,22 +58,23 @@ int main(int argc, char **argv) {
     const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
     const std::string cache = argv[2];
     const int size = argc > 3 ? std::atoi(argv[3]) : 64, ref_spp = argc > 4 ? std::atoi(argv[4]) : 256;
-    // Settings "H:C[:S]" (voxel edge in point spacings : clusters : tangent splat radius in spacings) from the command line, else a default sweep.
+    // Settings from the command line (fields below), else a default sweep.
     std::vector<Setting> settings;
     std::vector<std::string> names;
     for (int i = 5; i < argc; ++i) names.push_back(argv[i]);
     if (names.empty()) names = {"0:0", "2:1024", "2:2048", "2:4096", "1.5:2048", "3:2048"};
     for (const std::string &n : names) {
-        // Fields H:C[:S[:F[:D[:B[:K]]]]]: voxel edge, clusters, then optional the tangent splat, a factor on
-        // the node area a (with rows normalised and the power balance restored, a only sets the
-        // near-field term a/π) and a disc radius (points/disc_occluder.h), lengths in spacings.
+        // Fields H:C[:S[:F[:D[:B[:K]]]]]: voxel edge, clusters, then optional the tangent splat, a
+        // factor on the node area a (with rows normalised, a only sets the near-field term a/π), a
+        // disc radius (points/disc_occluder.h; 0 = voxels), lengths in spacings; the power balance
+        // B (PriorBalance: 0 per channel, 1 grey, 2 none) and the bounces K (0 = 8).
         std::vector<float> f;
         for (size_t b = 0; b <= n.size();) {
             const size_t e = std::min(n.find(':', b), n.size());
             f.push_back(std::stof(n.substr(b, e - b)));
             b = e + 1;
         }
-        if (f.size() < 2 || f.size() > 7) {
+        if (f.size() < 2 || f.size() > 7 || (f.size() > 5 && !(f[5] == 0.f || f[5] == 1.f || f[5] == 2.f))) {
             std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B[:K]]]]]\n", n.c_str());
             return 1;
         }

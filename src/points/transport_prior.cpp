@@ -184,17 +184,15 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         const bool in_spacings = !(vis.voxel > 0.f) || vis.splat_spacings > 0.f || vis.disc_spacings > 0.f;
         const float spacing = in_spacings ? point_spacing(op) : 0.f;
         const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * spacing;
-        if (vis.disc_spacings > 0.f) {
-            // The cluster grid's edge from the points alone (point_visibility.h): n_solid ≈ κ·M voxels
-            // of edge h at h = s (κ = 0.71, 0.68–0.75 on 6 validation houses), so g = h·√(2·n_solid/C)
-            // becomes s·√(2·κ·M/C) with h = s, whatever the voxel edge.
-            constexpr double k_voxels_per_point = 0.71;
-            const float cell = float(double(spacing) * std::sqrt(2.0 * k_voxels_per_point * double(op.size()) / double(vis.clusters)));
-            v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
-                                   DiscOccluder(op, on, vis.disc_spacings * spacing), cell);
-        } else {
-            v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters);
-        }
+        // With discs, the cluster grid's edge from the points alone (point_visibility.h): n_solid ≈
+        // κ·M voxels of edge h at h = s (κ = 0.71, 0.68–0.75 on 6 validation houses), so
+        // g = h·√(2·n_solid/C) becomes s·√(2·κ·M/C), whatever the voxel edge. 0: from the voxels.
+        constexpr double k_voxels_per_point = 0.71;
+        const bool discs = vis.disc_spacings > 0.f;
+        const float cell =
+            discs ? float(double(spacing) * std::sqrt(2.0 * k_voxels_per_point * double(op.size()) / double(vis.clusters))) : 0.f;
+        v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
+                               discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell);
     }
     return solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance);
 }
