@@ -66,6 +66,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
     vis.voxel_spacings = physics.prior_visibility;   // in units of the points' own spacing: free of ℓ's FPS ties
     vis.clusters = physics.prior_clusters;
     vis.disc_spacings = physics.prior_discs;
+    vis.blend = physics.prior_blend;
     const PointSet all = scene_point_table(framed);
     return std::make_shared<const TransportPrior>(
         solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all,

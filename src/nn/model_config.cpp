@@ -64,6 +64,8 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_discs", &C::prior_discs, "occlusion in the transport prior by the scene points as discs of this radius in point spacings (0 = by the voxels)", between(0, 8))
             .omit_default()
             .field("prior_balance", &C::prior_balance, "the occluded transport prior's power balance: a gain per channel, one grey gain, or none", {}, {"channel", "grey", "none"})
+            .omit_default()
+            .field("prior_blend", &C::prior_blend, "each receiver of the transport prior blends the visibility of its K nearest visible occlusion clusters (1 = its one cluster)", between(1, 7))
             .omit_default();
     return f;
 }
@@ -109,6 +111,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                 LTM_THROW(ph.where("prior_clusters"), ": occlusion clusters need prior_visibility > 0");
             if (p.prior_balance != PhysicsConfig{}.prior_balance && !(p.prior_visibility > 0.f))
                 LTM_THROW(ph.where("prior_balance"), ": the power balance applies only with prior_visibility > 0");
+            if (p.prior_blend != PhysicsConfig{}.prior_blend && !(p.prior_visibility > 0.f))
+                LTM_THROW(ph.where("prior_blend"), ": blending occlusion clusters needs prior_visibility > 0");
             if (p.prior_discs > 0.f && !(p.prior_visibility > 0.f))
                 LTM_THROW(ph.where("prior_discs"), ": occlusion discs need prior_visibility > 0");
             if (p.prior_visibility > 0.f && p.prior_field != "transport")

@@ -147,29 +147,69 @@ bool ClusterVisibility::blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const {
     return occupancy.blocked(a + na * lift, na, b + nb * lift, nb);
 }
 
-uint32_t ClusterVisibility::cluster_of(Vec3f p, Vec3f n) const {
-    constexpr size_t k_candidates = 8;
-    // The k nearest facing centres, nearest first (insertion into a short sorted list).
-    std::pair<float, uint32_t> near[k_candidates];
+namespace {
+// The k_candidates nearest centres whose normal is within 90° of n, nearest first (insertion into
+// a short sorted list; ties to the lower index), and the nearest centre of all. Returns the count.
+size_t facing_candidates(const ClusterVisibility &v, Vec3f p, Vec3f n, std::pair<float, uint32_t> *near,
+                         uint32_t &nearest) {
+    constexpr size_t k = ClusterVisibility::k_candidates;
     size_t found = 0;
-    uint32_t nearest = 0;
+    nearest = 0;
     float d_nearest = std::numeric_limits<float>::infinity();
-    for (size_t c = 0; c < position.size(); ++c) {
-        const Vec3f d = position[c] - p;
+    for (size_t c = 0; c < v.position.size(); ++c) {
+        const Vec3f d = v.position[c] - p;
         const float r2 = dot(d, d);
         if (r2 < d_nearest) d_nearest = r2, nearest = uint32_t(c);
-        if (!(dot(normal[c], n) > 0.f)) continue;
-        if (found == k_candidates && !(r2 < near[k_candidates - 1].first)) continue;
-        size_t i = found < k_candidates ? found++ : k_candidates - 1;
+        if (!(dot(v.normal[c], n) > 0.f)) continue;
+        if (found == k && !(r2 < near[k - 1].first)) continue;
+        size_t i = found < k ? found++ : k - 1;
         for (; i > 0 && r2 < near[i - 1].first; --i) near[i] = near[i - 1];
         near[i] = {r2, uint32_t(c)};
     }
+    return found;
+}
+}  // namespace
+
+uint32_t ClusterVisibility::cluster_of(Vec3f p, Vec3f n) const {
+    std::pair<float, uint32_t> near[k_candidates];
+    uint32_t nearest = 0;
+    const size_t found = facing_candidates(*this, p, n, near, nearest);
     if (found == 0) return nearest;
     for (size_t i = 0; i < found; ++i) {
         const uint32_t c = near[i].second;
         if (!blocked(p, n, position[c], normal[c])) return c;
     }
     return near[0].second;
+}
+
+int ClusterVisibility::receiver_clusters(Vec3f p, Vec3f n, uint32_t *ids, float *weights) const {
+    std::pair<float, uint32_t> near[k_candidates];
+    uint32_t nearest = 0;
+    const size_t found = facing_candidates(*this, p, n, near, nearest);
+    // The visible candidates, nearest first (their squared distances in d2).
+    float d2[k_candidates];
+    int seen = 0;
+    for (size_t i = 0; i < found && (blend <= 1 ? seen < 1 : true); ++i) {
+        const uint32_t c = near[i].second;
+        if (!blocked(p, n, position[c], normal[c])) ids[seen] = c, d2[seen] = near[i].first, ++seen;
+    }
+    if (blend > 1 && seen > 0) {
+        const int K = std::min(blend, seen);
+        const float ref = K < seen ? d2[K] : near[found - 1].first;
+        float sum = 0.f;
+        for (int k = 0; k < K; ++k) {
+            const float t = ref > 0.f ? std::max(0.f, 1.f - d2[k] / ref) : 0.f;
+            weights[k] = t * t, sum += weights[k];
+        }
+        if (sum > 0.f) {
+            for (int k = 0; k < K; ++k) weights[k] /= sum;
+            return K;
+        }
+    }
+    // One cluster, as cluster_of chooses it.
+    ids[0] = seen > 0 ? ids[0] : found > 0 ? near[0].second : nearest;
+    weights[0] = 1.f;
+    return 1;
 }
 
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::vector<Vec3f> &nrm, VoxelOccupancy occupancy,

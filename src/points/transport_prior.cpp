@@ -1,10 +1,13 @@
 // transport_prior.cpp: the visibility-free radiosity solve and its gather (equations in the header).
 #include "ltm/points/transport_prior.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
 #include "ltm/core/error.h"
+#include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
 #include "ltm/points/power_balance.h"
 
@@ -44,14 +47,13 @@ inline float sum8(const float *__restrict a, size_t m) {
     return s;
 }
 
-// Ĝ's unnormalised row for a receiver (p, n): G_j without the area factor a (it cancels in the
-// row normalisation), see the header. The receiver's own node (r = 0) gets 0 from the cosines.
-// mask (null: all 1) multiplies the terms: visibility. Returns the row sum; row[j] receives the terms.
-inline float transfer_row(const Soa &s, size_t m, Vec3f p, Vec3f n, float reg, const float *__restrict mask,
-                          float *__restrict row) {
+// Ĝ's unnormalised row for a receiver (p, n) over nodes [lo, hi): G_j without the area factor a
+// (it cancels in the row normalisation), see the header. The receiver's own node (r = 0) gets 0
+// from the cosines. row[j] (absolute j) receives the terms.
+inline void transfer_row(const Soa &s, size_t lo, size_t hi, Vec3f p, Vec3f n, float reg, float *__restrict row) {
     const float *__restrict px = s.px.data(), *__restrict py = s.py.data(), *__restrict pz = s.pz.data();
     const float *__restrict nx = s.nx.data(), *__restrict ny = s.ny.data(), *__restrict nz = s.nz.data();
-    for (size_t j = 0; j < m; ++j) {
+    for (size_t j = lo; j < hi; ++j) {
         const float dx = px[j] - p.x, dy = py[j] - p.y, dz = pz[j] - p.z;
         const float r2 = dx * dx + dy * dy + dz * dz;
         const float cr = n.x * dx + n.y * dy + n.z * dz;               // cosines times r
@@ -59,18 +61,73 @@ inline float transfer_row(const Soa &s, size_t m, Vec3f p, Vec3f n, float reg, c
         const float t = cr * cs / (r2 * (r2 + reg) + 1e-30f);
         row[j] = (cr > 0.f && cs > 0.f) ? t : 0.f;
     }
-    if (mask)
-        for (size_t j = 0; j < m; ++j) row[j] *= mask[j];
-    return sum8(row, m);
 }
 
-// The visibility mask of a receiver in cluster c: mask[j] = V(c, cluster(j)).
-void visibility_mask(const ClusterVisibility &v, uint32_t c, std::vector<float> &mask) {
-    const size_t C = v.size();
-    mask.resize(v.node_cluster.size());
-    const uint8_t *row = v.visible.data() + size_t(c) * C;
-    for (size_t j = 0; j < mask.size(); ++j) mask[j] = float(row[v.node_cluster[j]]);
+// The nodes in cluster order (stable): each cluster's nodes are one range [seg_c, seg_c+1) of
+// places, so what a receiver sees is a few runs of consecutive places. Without occlusion, one
+// cluster holds every node in its own order.
+struct ClusterOrder {
+    std::vector<uint32_t> order;   ///< [m] the node at each place
+    std::vector<size_t> seg;       ///< [C + 1] first place of each cluster
+    ClusterOrder(const ClusterVisibility &vis, size_t m) : order(m), seg(vis.empty() ? 2 : vis.size() + 1, 0) {
+        for (size_t j = 0; j < m; ++j) order[j] = uint32_t(j);
+        if (vis.empty()) {
+            seg[1] = m;
+            return;
+        }
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return vis.node_cluster[a] < vis.node_cluster[b]; });
+        for (size_t j = 0; j < m; ++j) ++seg[vis.node_cluster[j] + 1];
+        for (size_t c = 0; c + 1 < seg.size(); ++c) seg[c + 1] += seg[c];
+    }
+    template <class T> std::vector<T> permuted(const std::vector<T> &v) const {
+        std::vector<T> out(order.size());
+        for (size_t j = 0; j < order.size(); ++j) out[j] = v[order[j]];
+        return out;
+    }
+};
+
+// What one receiver sees: the weight of each cluster, Σ_k w_k V(c_k, c) over the clusters its
+// visibility blends (ClusterVisibility::receiver_clusters; weight 1 everywhere without occlusion),
+// the runs [lo, hi) of places whose cluster weighs > 0, and mask[place] = that weight.
+struct ReceiverView {
+    std::vector<float> weight, mask;
+    std::vector<std::pair<size_t, size_t>> runs;
+    explicit ReceiverView(const ClusterOrder &co) : mask(co.order.size(), 1.f), runs{{0, co.order.size()}} {}
+    void set(const ClusterVisibility &vis, const ClusterOrder &co, const uint32_t *ids, const float *w, int K) {
+        const size_t C = vis.size();
+        weight.assign(C, 0.f);
+        for (int k = 0; k < K; ++k) {
+            const uint8_t *row = vis.visible.data() + size_t(ids[k]) * C;
+            for (size_t c = 0; c < C; ++c) weight[c] += w[k] * float(row[c]);
+        }
+        runs.clear();
+        for (size_t c = 0; c < C; ++c) {
+            const size_t lo = co.seg[c], hi = co.seg[c + 1];
+            if (!(weight[c] > 0.f) || lo == hi) continue;
+            std::fill(mask.begin() + ptrdiff_t(lo), mask.begin() + ptrdiff_t(hi), weight[c]);
+            if (!runs.empty() && runs.back().second == lo) runs.back().second = hi;
+            else runs.emplace_back(lo, hi);
+        }
+    }
+    /// The receiver (p, n), or the node at place i of the solve (blend 1: its own cluster).
+    void set(const ClusterVisibility &vis, const ClusterOrder &co, Vec3f p, Vec3f n, const uint32_t *own = nullptr) {
+        if (vis.empty()) return;
+        uint32_t ids[ClusterVisibility::k_candidates];
+        float w[ClusterVisibility::k_candidates];
+        int K = 1;
+        if (own && vis.blend <= 1) ids[0] = *own, w[0] = 1.f;
+        else K = vis.receiver_clusters(p, n, ids, w);
+        set(vis, co, ids, w, K);
+    }
+};
+
+// Σ_j row_j · x_j over a sparse row: its values packed run after run.
+inline float sparse_dot(const float *vals, const std::vector<std::pair<uint32_t, uint32_t>> &runs, const float *x) {
+    float s = 0.f;
+    for (const auto &[lo, hi] : runs) s += dot8(vals, x + lo, hi - lo), vals += hi - lo;
+    return s;
 }
+
 }  // namespace
 
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
@@ -91,39 +148,55 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     const ClusterVisibility &vis = out.visibility;
     out.exitance.assign(m, Vec3f(0.f));
     if (bounces == 0) return out;
-    const Soa soa(position, normal);
-    // Row-normalised transport Ĝ [m, m], rows in parallel.
+    // Everything in cluster order (places): a node's row is then the runs of places it sees, and
+    // the transport Ĝ is stored sparse — only what each node sees (about a room's worth of a house).
+    const ClusterOrder co(vis, m);
+    const std::vector<Vec3f> pos = co.permuted(position), nrm = co.permuted(normal), rho = co.permuted(albedo);
+    const Soa soa(pos, nrm);
     const float reg = node_area / float(k_pi);
-    std::vector<float> g(m * m);
+    std::vector<std::vector<float>> g(m);                                 // [m] packed row values
+    std::vector<std::vector<std::pair<uint32_t, uint32_t>>> g_runs(m);   // [m] their runs of places
     parallel_for(0, int64_t(m), 16, [&](int64_t b, int64_t e) {
-        std::vector<float> mask;
+        ReceiverView view(co);
+        std::vector<float> row(m);
         for (int64_t i = b; i < e; ++i) {
-            float *row = g.data() + size_t(i) * m;
-            if (!vis.empty()) visibility_mask(vis, vis.node_cluster[size_t(i)], mask);
-            const float sum = transfer_row(soa, m, position[size_t(i)], normal[size_t(i)], reg,
-                                           vis.empty() ? nullptr : mask.data(), row);
+            const uint32_t node = co.order[size_t(i)];
+            view.set(vis, co, pos[size_t(i)], nrm[size_t(i)], vis.empty() ? nullptr : &vis.node_cluster[node]);
+            float sum = 0.f;
+            size_t len = 0;
+            for (const auto &[lo, hi] : view.runs) {
+                transfer_row(soa, lo, hi, pos[size_t(i)], nrm[size_t(i)], reg, row.data());
+                if (!vis.empty())
+                    for (size_t j = lo; j < hi; ++j) row[j] *= view.mask[j];
+                sum += sum8(row.data() + lo, hi - lo), len += hi - lo;
+            }
             const float inv = sum > 0.f ? 1.f / sum : 0.f;
-            for (size_t j = 0; j < m; ++j) row[j] *= inv;
+            std::vector<float> &vals = g[size_t(i)];
+            vals.reserve(len);
+            for (const auto &[lo, hi] : view.runs) {
+                g_runs[size_t(i)].emplace_back(uint32_t(lo), uint32_t(hi));
+                for (size_t j = lo; j < hi; ++j) vals.push_back(row[j] * inv);
+            }
         }
     });
     // B_0 = π L (exitance of the emitters); B_{k+1} = ρ · Ĝ B_k, channel-major for the dot products.
-    std::vector<float> b[3], next[3];
+    std::vector<float> bk[3], next[3], ex[3];
     for (int c = 0; c < 3; ++c) {
-        b[c].resize(m), next[c].resize(m);
-        for (size_t j = 0; j < m; ++j) b[c][j] = radiance[j][c] * float(k_pi);
+        bk[c].resize(m), next[c].resize(m), ex[c].assign(m, 0.f);
+        for (size_t j = 0; j < m; ++j) bk[c][j] = radiance[co.order[j]][c] * float(k_pi);
     }
     for (int k = 0; k < bounces; ++k) {
         parallel_for(0, int64_t(m), 64, [&](int64_t lo, int64_t hi) {
-            for (int64_t i = lo; i < hi; ++i) {
-                const float *row = g.data() + size_t(i) * m;
-                for (int c = 0; c < 3; ++c) next[c][size_t(i)] = albedo[size_t(i)][c] * dot8(row, b[c].data(), m);
-            }
+            for (int64_t i = lo; i < hi; ++i)
+                for (int c = 0; c < 3; ++c)
+                    next[c][size_t(i)] = rho[size_t(i)][c] * sparse_dot(g[size_t(i)].data(), g_runs[size_t(i)], bk[c].data());
         });
         for (int c = 0; c < 3; ++c) {
-            std::swap(b[c], next[c]);
-            for (size_t j = 0; j < m; ++j) out.exitance[j][c] += b[c][j];
+            std::swap(bk[c], next[c]);
+            for (size_t j = 0; j < m; ++j) ex[c][j] += bk[c][j];
         }
     }
+    Vec3f gain(1.f);
     if (!vis.empty() && balance != PriorBalance::none) {
         // Approximate occlusion breaks the closure that keeps power balanced: a falsely blocked far
         // node drops out of a row, the near ones gain, and the lit rooms recirculate too much light
@@ -131,15 +204,11 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         // of E⁺ at the nodes (equal areas) is π L̄_c Σ_{k=1..D} ρ̄_c^k, as in a closed box (exact in
         // the furnace; points/power_balance.h).
         Vec3f mean_e(0.f), mean_rho(0.f), mean_le(0.f);
-        std::vector<float> ex[3];
-        for (int c = 0; c < 3; ++c)
-            for (size_t j = 0; j < m; ++j) ex[c].push_back(out.exitance[j][c]);
         for (size_t i = 0; i < m; ++i) {
-            const float *row = g.data() + i * m;
-            for (int c = 0; c < 3; ++c) mean_e[c] += dot8(row, ex[c].data(), m) / float(m);
+            for (int c = 0; c < 3; ++c) mean_e[c] += sparse_dot(g[i].data(), g_runs[i], ex[c].data()) / float(m);
             mean_rho += albedo[i] / float(m), mean_le += radiance[i] / float(m);
         }
-        Vec3f gain(0.f), target(0.f);
+        Vec3f target(0.f);
         for (int c = 0; c < 3; ++c) {
             const double t = k_pi * double(mean_le[c]) * bounce_series(double(mean_rho[c]), bounces);
             target[c] = float(t);
@@ -147,8 +216,9 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         }
         if (balance == PriorBalance::grey)   // one gain: the luminance's
             gain = Vec3f(luminance(mean_e) > 0.f ? luminance(target) / luminance(mean_e) : 0.f);
-        for (size_t j = 0; j < m; ++j) out.exitance[j] = out.exitance[j] * gain;
     }
+    for (size_t j = 0; j < m; ++j)
+        for (int c = 0; c < 3; ++c) out.exitance[co.order[j]][c] = ex[c][j] * gain[c];
     return out;
 }
 
@@ -168,6 +238,9 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         for (int c = 0; c < 3; ++c) gain[c] = mean[c] > 0.f ? (*emission_scale)[c] / (float(k_pi) * mean[c]) : 0.f;
         for (auto &l : le) l = l * gain;
     }
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    double t_spacing = 0;
     ClusterVisibility v;
     if (vis.voxel > 0.f || vis.voxel_spacings > 0.f) {
         std::vector<Vec3f> op, on;
@@ -183,6 +256,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         // The points' spacing (an O(M²) search) only when a length is given in spacings.
         const bool in_spacings = !(vis.voxel > 0.f) || vis.splat_spacings > 0.f || vis.disc_spacings > 0.f;
         const float spacing = in_spacings ? point_spacing(op) : 0.f;
+        t_spacing = std::chrono::duration<double>(Clock::now() - t0).count();
         const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * spacing;
         // With discs, the cluster grid's edge from the points alone (point_visibility.h): n_solid ≈
         // κ·M voxels of edge h at h = s (κ = 0.71, 0.68–0.75 on 6 validation houses), so
@@ -194,32 +268,48 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
                                discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell);
     }
-    return solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance);
+    if (vis.blend < 1) LTM_THROW("transport prior: visibility blend must be >= 1, got ", vis.blend);
+    v.blend = vis.blend;
+    const auto t1 = Clock::now();
+    TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance);
+    log_debug("transport prior: ", m, " nodes; spacing ", t_spacing, " s, clusters and visibility ",
+              std::chrono::duration<double>(t1 - t0).count() - t_spacing, " s, solve ",
+              std::chrono::duration<double>(Clock::now() - t1).count(), " s");
+    return out;
 }
 
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
                             size_t n, float *out) {
     if (stride < 3) LTM_THROW("transport prior: row stride ", stride, " < 3");
     const size_t m = prior.position.size();
-    const Soa soa(prior.position, prior.normal);
-    std::vector<float> ex[3];
-    for (int c = 0; c < 3; ++c)
-        for (size_t j = 0; j < m; ++j) ex[c].push_back(prior.exitance[j][c]);
     const float reg = prior.area / float(k_pi);
     const ClusterVisibility &vis = prior.visibility;
+    // Nodes in cluster order: a receiver visits the runs of clusters it sees and skips the rest.
+    const ClusterOrder co(vis, m);
+    const Soa soa(co.permuted(prior.position), co.permuted(prior.normal));
+    std::vector<float> ex[3];
+    for (int c = 0; c < 3; ++c)
+        for (size_t j = 0; j < m; ++j) ex[c].push_back(prior.exitance[co.order[j]][c]);
     parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
-        std::vector<float> row(m), mask;
-        uint32_t mask_cluster = ~0u;   // neighbouring receivers (pixels) mostly share a cluster: build its mask once
+        ReceiverView view(co);
+        std::vector<float> row(m);
         for (int64_t q = b; q < e; ++q) {
             const float *pp = position + size_t(q) * stride, *pn = normal + size_t(q) * stride;
             const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
-            if (!vis.empty()) {
-                const uint32_t c = vis.cluster_of(p, nq);
-                if (c != mask_cluster) visibility_mask(vis, c, mask), mask_cluster = c;
+            view.set(vis, co, p, nq);
+            // E⁺ = Σ_j v_j t_j ex_j / Σ_j v_j t_j over the nodes it sees (v_j its cluster's weight),
+            // run by run in a fixed order: the same at any thread count.
+            double den = 0, num[3] = {0, 0, 0};
+            for (const auto &[lo, hi] : view.runs) {
+                float *r = row.data();
+                transfer_row(soa, lo, hi, p, nq, reg, r);
+                if (!vis.empty())
+                    for (size_t j = lo; j < hi; ++j) r[j] *= view.mask[j];
+                den += sum8(r + lo, hi - lo);
+                for (int k = 0; k < 3; ++k) num[k] += dot8(r + lo, ex[k].data() + lo, hi - lo);
             }
-            const float w = transfer_row(soa, m, p, nq, reg, vis.empty() ? nullptr : mask.data(), row.data());
             float *o = out + size_t(q) * 3;
-            for (int c = 0; c < 3; ++c) o[c] = w > 0.f ? dot8(row.data(), ex[c].data(), m) / w : 0.f;
+            for (int k = 0; k < 3; ++k) o[k] = den > 0 ? float(num[k] / den) : 0.f;
         }
     });
 }

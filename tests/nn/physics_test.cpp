@@ -57,6 +57,8 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
         EXPECT_EQ(c.physics.prior_visibility, tp ? 1.f : 0.f) << name;
         EXPECT_EQ(c.physics.prior_discs, tp ? 1.f : 0.f) << name;
         EXPECT_EQ(c.physics.prior_balance, tp ? "none" : "channel") << name;
+        EXPECT_EQ(c.physics.prior_blend, tp ? 4 : 1) << name;
+        EXPECT_EQ(c.to_json()["physics"].contains("prior_blend"), tp) << "written only when not 1: " << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
     Json j = parse_json(ModelConfig::from_file(test::source_path("configs/model/tiny.json")).to_json().dump(), "t");
@@ -97,6 +99,14 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     EXPECT_EQ(ModelConfig::from_json(j, "ok").to_json()["physics"]["prior_balance"].get<std::string>(), "none");
     j["physics"] = {{"prior_field", "transport"}, {"prior_balance", "none"}};
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "a balance without occlusion";
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_blend", 4}};
+    EXPECT_EQ(ModelConfig::from_json(j, "ok").to_json()["physics"]["prior_blend"].get<int>(), 4);
+    j["physics"] = {{"prior_field", "transport"}, {"prior_blend", 4}};
+    EXPECT_THROW(ModelConfig::from_json(j, "blend without visibility"), Error);
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_blend", 0}};
+    EXPECT_THROW(ModelConfig::from_json(j, "blend 0"), Error);
+    j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_blend", 8}};
+    EXPECT_THROW(ModelConfig::from_json(j, "blend 8"), Error);
     j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_balance", "off"}};
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "not a balance";
     j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 2.0}, {"prior_discs", -1.0}};

@@ -114,8 +114,13 @@ struct PhysicsConfig {
     /// channels) or "none" (v0.9: with disc occlusion the house-wide closed-box balance only adds
     /// error — 32 validation views MSE 0.0052 without it vs 0.0092 with it). Only with prior_visibility > 0.
     std::string prior_balance = "channel";
+    /// K ≥ 1: each receiver (a node of the solve, a query of the gather) blends the visibility of
+    /// its K nearest visible clusters (VisibilityOptions::blend) instead of taking its one
+    /// cluster's, so the prior has no seams where pixels change cluster. 1 = one cluster (v0.9).
+    /// Only with prior_visibility > 0.
+    int prior_blend = 1;
 
-    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel"}; }
+    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1}; }
     /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.
     static const ConfigFields<PhysicsConfig> &fields();
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }

@@ -78,6 +78,10 @@ struct VisibilityOptions {
     /// then only supplies the cluster grid's centre (its edge comes from the points' spacing and
     /// count, transport_prior.cpp). 0 = voxels.
     float disc_spacings = 0.f;
+    /// K ≥ 1: a receiver's visibility is the weighted blend of the rows of its K nearest visible
+    /// clusters (ClusterVisibility::receiver_clusters), not of its one cluster's: the image of a
+    /// surface then has no edges where its pixels change cluster. 1 = one cluster (v0.9).
+    int blend = 1;
 };
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th
@@ -93,12 +97,23 @@ struct ClusterVisibility {
     std::vector<uint8_t> visible;          ///< [C·C] symmetric; a cluster sees itself
     VoxelOccupancy occupancy;              ///< what the segments are tested against (and the cluster grid's size)
     DiscOccluder discs;                    ///< when not empty, what the segments are tested against instead
+    int blend = 1;                         ///< K of receiver_clusters (VisibilityOptions::blend)
+    static constexpr int k_candidates = 8;   ///< facing centres a receiver considers
     bool empty() const { return position.empty(); }
     size_t size() const { return position.size(); }
     /// The cluster of a receiver (p, n): of the 8 nearest centres whose normal is within 90° of n,
     /// the nearest it sees; else the nearest of them; the nearest of all when none faces that way.
     /// Ties to the lower index.
     uint32_t cluster_of(Vec3f p, Vec3f n) const;
+    /// The clusters whose visibility a receiver (p, n) blends, nearest first, and their weights
+    /// (sum 1); returns their count (1..blend). Of the k_candidates nearest centres facing n's way,
+    /// the visible ones v_1, v_2, … (as cluster_of): the first K = blend of them weigh
+    ///     w_k ∝ (1 − d_k²/d_ref²)²,   d_ref = the distance of v_{K+1} (else of the farthest candidate),
+    /// so a cluster's weight falls to 0 where it swaps places with the next one: the blend is
+    /// continuous as p moves, except where a centre's visibility itself flips. blend 1, or no
+    /// visible candidate, or all weights 0: cluster_of's one cluster with weight 1.
+    /// ids and weights hold at least k_candidates entries.
+    int receiver_clusters(Vec3f p, Vec3f n, uint32_t *ids, float *weights) const;
     /// Is the segment between two surface points (a, normal na) and (b, nb) blocked? Against the
     /// discs when there are any, else against the voxels with both ends lifted h/2 along their normals.
     bool blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const;

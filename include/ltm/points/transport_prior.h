@@ -24,7 +24,9 @@
 // walls). Approximate occlusion breaks the closure that balances power (falsely blocked far nodes
 // leave the rows, near ones gain: lit rooms came out 1.19× too bright), so the result is rescaled
 // per channel to the enclosure's balance: area mean of E⁺ at the nodes = π L̄ Σ_{k=1..D} ρ̄^k.
-// The furnace stays exact.
+// The furnace stays exact. With VisibilityOptions::blend = K > 1 a receiver's mask is the weighted
+// blend of the rows of its K nearest visible clusters (ClusterVisibility::receiver_clusters), so
+// the gathered image has no seams where receivers change cluster.
 #pragma once
 
 #include <cstddef>
@@ -66,7 +68,9 @@ TransportPrior solve_transport_prior(const PointSet &scene_points, float node_ar
                                      const PointSet *occupancy = nullptr, PriorBalance balance = PriorBalance::per_channel);
 
 /// E⁺ at n receivers: position and normal as float arrays [n, 3] (any stride ≥ 3 floats between
-/// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m), deterministic.
+/// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m) at most: with
+/// occlusion the nodes are visited cluster by cluster and the clusters a receiver does not see are
+/// skipped. Deterministic at any thread count.
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
                             size_t n, float *out);
 
