@@ -97,13 +97,15 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         // With occlusion from the points alone (points/point_visibility.h) as configs/model/cpu-tp.json
         // since v0.9: 1 024 clusters, segments tested against the points as discs of one spacing,
         // no power balance, D = 5 as the references (bench/prior_ablation.cpp compares the settings);
-        // since v0.10 each receiver blends the visibility of its 4 nearest visible clusters.
+        // since v0.10 each receiver blends the visibility of its 4 nearest visible clusters and the
+        // near field is by square patches.
         const auto t_vis = Clock::now();
         const float spacing = float(std::sqrt(es.scene.total_area() / double(sampled.points.size())));
         VisibilityOptions vis;
         vis.voxel_spacings = 1.f, vis.disc_spacings = 1.f, vis.blend = 4;
         const TransportPrior transport_vis = solve_transport_prior(
-            sampled.points, spacing * spacing, PathTracerConfig{}.max_depth, &sampled.emission_scale, vis, nullptr, PriorBalance::none);
+            sampled.points, spacing * spacing, PathTracerConfig{}.max_depth, &sampled.emission_scale, vis, nullptr, PriorBalance::none,
+            true);
         const double transport_vis_seconds = std::chrono::duration<double>(Clock::now() - t_vis).count();
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));

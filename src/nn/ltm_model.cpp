@@ -72,7 +72,8 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
         solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all,
                               physics.prior_balance == "none"   ? PriorBalance::none
                               : physics.prior_balance == "grey" ? PriorBalance::grey
-                                                                : PriorBalance::per_channel));
+                                                                : PriorBalance::per_channel,
+                              physics.prior_patches));
 }
 
 // output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]

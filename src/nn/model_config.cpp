@@ -66,6 +66,8 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_balance", &C::prior_balance, "the occluded transport prior's power balance: a gain per channel, one grey gain, or none", {}, {"channel", "grey", "none"})
             .omit_default()
             .field("prior_blend", &C::prior_blend, "each receiver of the transport prior blends the visibility of its K nearest visible occlusion clusters (1 = its one cluster)", between(1, 7))
+            .omit_default()
+            .field("prior_patches", &C::prior_patches, "the transport prior's near field by the exact form factors of square patches (else the point formula)")
             .omit_default();
     return f;
 }
@@ -117,6 +119,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                 LTM_THROW(ph.where("prior_discs"), ": occlusion discs need prior_visibility > 0");
             if (p.prior_visibility > 0.f && p.prior_field != "transport")
                 LTM_THROW(ph.where("prior_visibility"), ": only the \"transport\" prior has visibility");
+            if (p.prior_patches && p.prior_field != "transport")
+                LTM_THROW(ph.where("prior_patches"), ": only the \"transport\" prior has a near field");
             if (p.prior_nodes != "anchors" && p.prior_field != "transport")
                 LTM_THROW(ph.where("prior_nodes"), ": only the \"transport\" prior has nodes");
             if (p.prior_field == "transport" && (p.prior_bounces < 1 || !p.length_scale))

@@ -2,13 +2,16 @@
 #include "ltm/points/transport_prior.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <utility>
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
+#include "ltm/points/patch_form_factor.h"
 #include "ltm/points/power_balance.h"
 
 namespace ltm {
@@ -128,11 +131,88 @@ inline float sparse_dot(const float *vals, const std::vector<std::pair<uint32_t,
     return s;
 }
 
+// The near field (TransportPrior::patches): nodes within 2.5 s of a receiver (s = √a, the side of
+// a node's square) by a uniform grid of that edge, over places.
+class NearNodes {
+public:
+    NearNodes(const std::vector<Vec3f> &pos, float side) : m_side(side), m_reach(2.5f * side) {
+        Vec3f lo = pos[0], hi = pos[0];
+        for (const Vec3f &q : pos) lo = min(lo, q), hi = max(hi, q);
+        // Coarser than the reach where the house would need more than 2^24 cells (never on
+        // generated houses: ~10⁵–10⁶).
+        m_cell = m_reach;
+        auto count = [&](float cell) {
+            double n = 1;
+            for (int a = 0; a < 3; ++a) n *= std::floor(double(hi[a] - lo[a]) / cell) + 1;
+            return n;
+        };
+        while (count(m_cell) > double(1 << 24)) m_cell *= 2.f;
+        m_lo = lo;
+        for (int a = 0; a < 3; ++a) m_dims[a] = int64_t(std::floor(double(hi[a] - lo[a]) / m_cell)) + 1;
+        m_start.assign(size_t(m_dims[0] * m_dims[1] * m_dims[2] + 1), 0);
+        std::vector<size_t> cell_of(pos.size());
+        for (size_t j = 0; j < pos.size(); ++j) cell_of[j] = index(cell_coord(pos[j])), ++m_start[cell_of[j] + 1];
+        for (size_t c = 0; c + 1 < m_start.size(); ++c) m_start[c + 1] += m_start[c];
+        m_items.resize(pos.size());
+        std::vector<uint32_t> fill(m_start.begin(), m_start.end() - 1);
+        for (size_t j = 0; j < pos.size(); ++j) m_items[fill[cell_of[j]]++] = uint32_t(j);   // places in order
+    }
+    float side() const { return m_side; }
+    /// Calls f(place) for every node in the cells within the reach of p (a superset of the nodes
+    /// closer than the reach; the caller tests the distance).
+    template <class F> void visit(Vec3f p, F f) const {
+        if (!is_finite(p)) return;   // no near nodes (the far formula reports nothing sensible either)
+        int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max<int64_t>(0, int64_t(std::floor(double(p[a] - m_reach - m_lo[a]) / m_cell)));
+            hi[a] = std::min<int64_t>(m_dims[a] - 1, int64_t(std::floor(double(p[a] + m_reach - m_lo[a]) / m_cell)));
+        }
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+            for (int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (int64_t x = lo[0]; x <= hi[0]; ++x) {
+                    const size_t c = size_t((z * m_dims[1] + y) * m_dims[0] + x);
+                    for (size_t k = m_start[c]; k < m_start[c + 1]; ++k) f(m_items[k]);
+                }
+    }
+
+private:
+    std::array<int64_t, 3> cell_coord(Vec3f q) const {
+        std::array<int64_t, 3> c{};
+        for (int a = 0; a < 3; ++a) c[size_t(a)] = std::clamp<int64_t>(int64_t(std::floor(double(q[a] - m_lo[a]) / m_cell)), 0, m_dims[a] - 1);
+        return c;
+    }
+    size_t index(const std::array<int64_t, 3> &c) const { return size_t((c[2] * m_dims[1] + c[1]) * m_dims[0] + c[0]); }
+    float m_side, m_reach, m_cell = 0.f;
+    Vec3f m_lo{0.f};
+    int64_t m_dims[3] = {1, 1, 1};
+    std::vector<size_t> m_start;
+    std::vector<uint32_t> m_items;
+};
+
+// Replaces the point formula by the square patch's exact form factor (points/patch_form_factor.h)
+// for the nodes near the receiver (p, n), blended over r ∈ [1.5 s, 2.5 s] so the row has no seam:
+//     t_j = (1 − β) · F_j · π/a + β · t_j(point),   β = clamp((r − 1.5 s)/s, 0, 1),
+// F · π/a being the point term's scale (the on-axis disc: a/(πr² + a) = (a/π) · t). Only places
+// the receiver sees (seen(place)) are touched: the others are not in its runs.
+template <class Seen>
+void near_field(const NearNodes &near, const std::vector<Vec3f> &pos, const std::vector<Vec3f> &nrm, Vec3f p, Vec3f n,
+                Seen seen, float *row) {
+    const float s = near.side(), scale = float(k_pi) / (s * s);
+    near.visit(p, [&](uint32_t j) {
+        const float r = length(pos[j] - p);
+        if (!(r < 2.5f * s) || !seen(j)) return;
+        const float beta = std::clamp((r - 1.5f * s) / s, 0.f, 1.f);
+        const float patch = patch_form_factor(p, n, pos[j], nrm[j], s) * scale;
+        row[j] = (1.f - beta) * patch + beta * row[j];
+    });
+}
+
 }  // namespace
 
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
-                                     float node_area, int bounces, ClusterVisibility visibility, PriorBalance balance) {
+                                     float node_area, int bounces, ClusterVisibility visibility, PriorBalance balance,
+                                     bool patches) {
     const size_t m = position.size();
     if (m == 0) LTM_THROW("transport prior: no nodes");
     if (normal.size() != m || albedo.size() != m || radiance.size() != m)
@@ -143,7 +223,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     if (!visibility.empty() && visibility.node_cluster.size() != m)
         LTM_THROW("transport prior: visibility for ", visibility.node_cluster.size(), " nodes, not ", m);
     TransportPrior out;
-    out.position = position, out.normal = normal, out.area = node_area;
+    out.position = position, out.normal = normal, out.area = node_area, out.patches = patches;
     out.visibility = std::move(visibility);
     const ClusterVisibility &vis = out.visibility;
     out.exitance.assign(m, Vec3f(0.f));
@@ -154,6 +234,13 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     const std::vector<Vec3f> pos = co.permuted(position), nrm = co.permuted(normal), rho = co.permuted(albedo);
     const Soa soa(pos, nrm);
     const float reg = node_area / float(k_pi);
+    const std::unique_ptr<NearNodes> near = patches ? std::make_unique<NearNodes>(pos, std::sqrt(node_area)) : nullptr;
+    std::vector<uint32_t> place_cluster(m, 0);
+    if (!vis.empty())
+        for (size_t j = 0; j < m; ++j) place_cluster[j] = vis.node_cluster[co.order[j]];
+    auto seen = [&](const ReceiverView &v) {
+        return [&](uint32_t j) { return vis.empty() || v.weight[place_cluster[j]] > 0.f; };
+    };
     std::vector<std::vector<float>> g(m);                                 // [m] packed row values
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> g_runs(m);   // [m] their runs of places
     parallel_for(0, int64_t(m), 16, [&](int64_t b, int64_t e) {
@@ -162,10 +249,11 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         for (int64_t i = b; i < e; ++i) {
             const uint32_t node = co.order[size_t(i)];
             view.set(vis, co, pos[size_t(i)], nrm[size_t(i)], vis.empty() ? nullptr : &vis.node_cluster[node]);
+            for (const auto &[lo, hi] : view.runs) transfer_row(soa, lo, hi, pos[size_t(i)], nrm[size_t(i)], reg, row.data());
+            if (near) near_field(*near, pos, nrm, pos[size_t(i)], nrm[size_t(i)], seen(view), row.data());
             float sum = 0.f;
             size_t len = 0;
             for (const auto &[lo, hi] : view.runs) {
-                transfer_row(soa, lo, hi, pos[size_t(i)], nrm[size_t(i)], reg, row.data());
                 if (!vis.empty())
                     for (size_t j = lo; j < hi; ++j) row[j] *= view.mask[j];
                 sum += sum8(row.data() + lo, hi - lo), len += hi - lo;
@@ -223,7 +311,8 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
 }
 
 TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bounces, const Vec3f *emission_scale,
-                                     const VisibilityOptions &vis, const PointSet *occupancy, PriorBalance balance) {
+                                     const VisibilityOptions &vis, const PointSet *occupancy, PriorBalance balance,
+                                     bool patches) {
     if (sp.columns != scene_point_columns()) LTM_THROW("transport prior: not a scene point table");
     const size_t m = sp.size();
     std::vector<Vec3f> p(m), n(m), rho(m), le(m);
@@ -271,7 +360,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     if (vis.blend < 1) LTM_THROW("transport prior: visibility blend must be >= 1, got ", vis.blend);
     v.blend = vis.blend;
     const auto t1 = Clock::now();
-    TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance);
+    TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches);
     log_debug("transport prior: ", m, " nodes; spacing ", t_spacing, " s, clusters and visibility ",
               std::chrono::duration<double>(t1 - t0).count() - t_spacing, " s, solve ",
               std::chrono::duration<double>(Clock::now() - t1).count(), " s");
@@ -286,7 +375,12 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
     const ClusterVisibility &vis = prior.visibility;
     // Nodes in cluster order: a receiver visits the runs of clusters it sees and skips the rest.
     const ClusterOrder co(vis, m);
-    const Soa soa(co.permuted(prior.position), co.permuted(prior.normal));
+    const std::vector<Vec3f> pos = co.permuted(prior.position), nrm = co.permuted(prior.normal);
+    const Soa soa(pos, nrm);
+    const std::unique_ptr<NearNodes> near = prior.patches ? std::make_unique<NearNodes>(pos, std::sqrt(prior.area)) : nullptr;
+    std::vector<uint32_t> place_cluster(m, 0);
+    if (!vis.empty())
+        for (size_t j = 0; j < m; ++j) place_cluster[j] = vis.node_cluster[co.order[j]];
     std::vector<float> ex[3];
     for (int c = 0; c < 3; ++c)
         for (size_t j = 0; j < m; ++j) ex[c].push_back(prior.exitance[co.order[j]][c]);
@@ -300,9 +394,11 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
             // E⁺ = Σ_j v_j t_j ex_j / Σ_j v_j t_j over the nodes it sees (v_j its cluster's weight),
             // run by run in a fixed order: the same at any thread count.
             double den = 0, num[3] = {0, 0, 0};
+            float *r = row.data();
+            for (const auto &[lo, hi] : view.runs) transfer_row(soa, lo, hi, p, nq, reg, r);
+            if (near)
+                near_field(*near, pos, nrm, p, nq, [&](uint32_t j) { return vis.empty() || view.weight[place_cluster[j]] > 0.f; }, r);
             for (const auto &[lo, hi] : view.runs) {
-                float *r = row.data();
-                transfer_row(soa, lo, hi, p, nq, reg, r);
                 if (!vis.empty())
                     for (size_t j = lo; j < hi; ++j) r[j] *= view.mask[j];
                 den += sum8(r + lo, hi - lo);

@@ -58,6 +58,8 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
         EXPECT_EQ(c.physics.prior_discs, tp ? 1.f : 0.f) << name;
         EXPECT_EQ(c.physics.prior_balance, tp ? "none" : "channel") << name;
         EXPECT_EQ(c.physics.prior_blend, tp ? 4 : 1) << name;
+        EXPECT_EQ(c.physics.prior_patches, tp) << name;
+        EXPECT_EQ(c.to_json()["physics"].contains("prior_patches"), tp) << "written only when true: " << name;
         EXPECT_EQ(c.to_json()["physics"].contains("prior_blend"), tp) << "written only when not 1: " << name;
     }
     // A v0.3 config (no "physics" object) is the legacy model, and writes back without one.
@@ -107,6 +109,10 @@ TEST(Physics, PresetsCarryTheExactNormalisations) {
     EXPECT_THROW(ModelConfig::from_json(j, "blend 0"), Error);
     j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_blend", 8}};
     EXPECT_THROW(ModelConfig::from_json(j, "blend 8"), Error);
+    j["physics"] = {{"prior_patches", true}};
+    EXPECT_THROW(ModelConfig::from_json(j, "patches without the transport prior"), Error);
+    j["physics"] = {{"prior_field", "transport"}, {"prior_patches", true}};
+    EXPECT_TRUE(ModelConfig::from_json(j, "ok").physics.prior_patches);
     j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 1.0}, {"prior_balance", "off"}};
     EXPECT_THROW(ModelConfig::from_json(j, "bad"), Error) << "not a balance";
     j["physics"] = {{"prior_field", "transport"}, {"prior_visibility", 2.0}, {"prior_discs", -1.0}};

@@ -5,6 +5,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
+#include "ltm/points/patch_form_factor.h"
 #include "ltm/points/transport_prior.h"
 #include "point_rooms.h"
 
@@ -114,4 +115,35 @@ TEST(TransportPrior, BadInputIsAnError) {
     EXPECT_THROW(solve_transport_prior(c.p, c.n, c.rho, {}, c.area, 2), Error);
     EXPECT_THROW(solve_transport_prior(c.p, c.n, c.rho, c.le, 0.f, 2), Error);
     EXPECT_THROW(solve_transport_prior(c.p, c.n, c.rho, c.le, c.area, -1), Error);
+}
+
+// The near field (patches): in a closed unit cube whose wall x = 0 alone has exitance 1, the
+// gather at a floor point is that wall's share of the receiver's hemisphere — its form factor,
+// exactly (a closed box's form factors sum to 1). Approaching the concave edge the wall fills half
+// the hemisphere; the point formula at the nodes' centres misses the elements within the nodes'
+// spacing of the edge, the square patches do not. Far from the edge both agree with the exact value.
+TEST(TransportPrior, PatchesGiveTheNearFieldOfAConcaveEdge) {
+    const Nodes c = cube(12, 1.f, [](int) { return Vec3f(0.5f); }, [](int) { return Vec3f(0.f); });
+    auto prior = [&](bool patches) {
+        TransportPrior t = solve_transport_prior(c.p, c.n, c.rho, c.le, c.area, 1, {}, PriorBalance::per_channel, patches);
+        for (size_t j = 0; j < c.p.size(); ++j) t.exitance[j] = Vec3f(c.n[j].x > 0.5f ? 1.f : 0.f);   // the wall x = 0
+        return t;
+    };
+    const TransportPrior point = prior(false), patch = prior(true);
+    EXPECT_TRUE(patch.patches);
+    const Vec3f up(0.f, 1.f, 0.f);
+    for (float x : {0.004f, 0.02f, 0.05f, 0.3f}) {
+        const Vec3f p(x, 0.f, 0.5f);
+        const double exact = patch_form_factor(p, up, Vec3f(0.f, 0.5f, 0.5f), Vec3f(1.f, 0.f, 0.f), 1.f);
+        const double e_point = gather(point, {p}, {up})[0], e_patch = gather(patch, {p}, {up})[0];
+        // measured: exact 0.497 / 0.484 / 0.461 / 0.287, patches 0.497 / 0.482 / 0.455 / 0.287,
+        // point formula 0.103 / 0.333 / 0.434 / 0.287
+        EXPECT_NEAR(e_patch, exact, 0.01) << "x " << x;
+        if (x <= 0.02f) {
+            EXPECT_GT(exact - e_point, 0.1) << "the point formula misses the edge, x " << x;
+        }
+        if (x >= 0.3f) {
+            EXPECT_NEAR(e_point, exact, 0.01) << "far from the edge the point formula holds";
+        }
+    }
 }

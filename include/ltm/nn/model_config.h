@@ -119,8 +119,13 @@ struct PhysicsConfig {
     /// cluster's, so the prior has no seams where pixels change cluster. 1 = one cluster (v0.9).
     /// Only with prior_visibility > 0.
     int prior_blend = 1;
+    /// The transport prior's near field by square patches (points/patch_form_factor.h): nodes
+    /// within 2.5 spacings of a receiver weigh by the exact form factor of a square of the node's
+    /// area, so a receiver at a concave edge sees the adjacent wall over half its hemisphere (the
+    /// point formula at the nodes' centres gave it ~0: bright seams). Only with prior_field "transport".
+    bool prior_patches = false;
 
-    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1}; }
+    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1, false}; }
     /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.
     static const ConfigFields<PhysicsConfig> &fields();
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }

@@ -27,6 +27,13 @@
 // The furnace stays exact. With VisibilityOptions::blend = K > 1 a receiver's mask is the weighted
 // blend of the rows of its K nearest visible clusters (ClusterVisibility::receiver_clusters), so
 // the gathered image has no seams where receivers change cluster.
+//
+// Near field (`patches`): the point formula above, evaluated at the nodes' centres, misses the
+// adjacent wall at a concave edge (a receiver at distance x from the edge sees it over half its
+// hemisphere, through elements within ~x of the edge). With patches, nodes within 2.5 s of a
+// receiver (s = √a) weigh by the exact form factor F_j of a square of side s
+// (points/patch_form_factor.h), as t_j = F_j · π/a — the point term's scale — blended into the
+// point formula over r ∈ [1.5 s, 2.5 s]. In the solve and the gather alike.
 #pragma once
 
 #include <cstddef>
@@ -49,6 +56,8 @@ struct TransportPrior {
     std::vector<Vec3f> exitance;           ///< [m] Σ_{k=1..D} B_k (W/m² per channel)
     float area = 0.f;                      ///< a: the area each node stands for (same unit² as positions)
     ClusterVisibility visibility;          ///< empty: no occlusion
+    /// Near field by square patches (solve_transport_prior's `patches`): the gather uses it too.
+    bool patches = false;
 };
 
 /// Solves D bounces among m nodes. position/normal/albedo/radiance: m entries each; node_area > 0.
@@ -57,7 +66,7 @@ struct TransportPrior {
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
                                      float node_area, int bounces, ClusterVisibility visibility = {},
-                                     PriorBalance balance = PriorBalance::per_channel);
+                                     PriorBalance balance = PriorBalance::per_channel, bool patches = false);
 
 /// Every scene point a node: scene_points [M, 12] (scene_point_columns()), node_area = A / M. With
 /// `emission_scale` (S_c = Φ_c/A, exact from the meshes) the points' radiance is rescaled per
@@ -65,7 +74,8 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
 /// vis.voxel > 0, occlusion from the occupancy of `occupancy` (all scene points; null: the nodes).
 TransportPrior solve_transport_prior(const PointSet &scene_points, float node_area, int bounces,
                                      const Vec3f *emission_scale = nullptr, const VisibilityOptions &vis = {},
-                                     const PointSet *occupancy = nullptr, PriorBalance balance = PriorBalance::per_channel);
+                                     const PointSet *occupancy = nullptr, PriorBalance balance = PriorBalance::per_channel,
+                                     bool patches = false);
 
 /// E⁺ at n receivers: position and normal as float arrays [n, 3] (any stride ≥ 3 floats between
 /// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m) at most: with
