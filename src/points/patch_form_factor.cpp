@@ -25,17 +25,17 @@ float patch_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side) {
         if ((da >= 0.f) != (db >= 0.f)) v[count++] = a + (b - a) * (da / (da - db));
     }
     if (count < 3) return 0.f;
-    double sum = 0;
+    // γ_k = atan2(|a × b|, a · b): one square root per edge, and accurate at small angles (acos is not).
+    float sum = 0.f;
     for (int k = 0; k < count; ++k) {
         const Vec3f a = v[k], b = v[(k + 1) % count];
         const Vec3f axb = cross(a, b);
-        const double len = length(axb);
-        if (!(len > 0.0)) continue;   // a vertex at p, or two collinear with it: no angle
-        const double cosg = std::clamp(double(dot(a, b)) / (double(length(a)) * double(length(b))), -1.0, 1.0);
-        sum += std::acos(cosg) * double(dot(n, axb)) / len;
+        const float len = length(axb);
+        if (!(len > 0.f)) continue;   // a vertex at p, or two collinear with it: no angle
+        sum += std::atan2(len, dot(a, b)) * dot(n, axb) / len;
     }
     // The orientation of the contour decides the sign; the patch faces p, so the magnitude counts.
-    return float(std::min(1.0, std::abs(sum) / (2.0 * k_pi)));
+    return std::min(1.f, std::abs(sum) / (2.f * float(k_pi)));
 }
 
 }  // namespace ltm

@@ -110,19 +110,34 @@ float point_spacing(const std::vector<Vec3f> &points) {
     constexpr size_t k = 8;
     const size_t m = points.size();
     if (m <= k) LTM_THROW("point spacing: ", m, " points (needs more than ", k, ")");
+    for (const Vec3f &q : points)
+        if (!is_finite(q)) LTM_THROW("point spacing: a point is not finite: ", q);
+    // A grid of about twice the spacing the bounding box's surface suggests; the ring search
+    // returns exactly the k smallest distances a scan of every point finds (point_grid.h).
+    Vec3f lo = points[0], hi = points[0];
+    for (const Vec3f &q : points) lo = min(lo, q), hi = max(hi, q);
+    const Vec3f ext = hi - lo;
+    const double box_area = 2.0 * (double(ext.x) * ext.y + double(ext.y) * ext.z + double(ext.z) * ext.x);
+    const float cell = box_area > 0.0 ? float(2.0 * std::sqrt(box_area / double(m))) : std::max(max_component(ext), 1.f);
+    const PointGrid grid(points, cell > 0.f ? cell : 1.f);
     std::vector<double> r2(m);
     parallel_for(0, int64_t(m), 64, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             float best[k];   // the k smallest squared distances, ascending
             for (float &v : best) v = std::numeric_limits<float>::infinity();
-            for (size_t j = 0; j < m; ++j) {
-                if (j == size_t(i)) continue;
-                const Vec3f d = points[j] - points[size_t(i)];
+            const Vec3f p = points[size_t(i)];
+            auto visit = [&](uint32_t j) {
+                if (j == uint32_t(i)) return;
+                const Vec3f d = points[j] - p;
                 const float q = dot(d, d);
-                if (!(q < best[k - 1])) continue;
+                if (!(q < best[k - 1])) return;
                 size_t s = k - 1;
                 for (; s > 0 && q < best[s - 1]; --s) best[s] = best[s - 1];
                 best[s] = q;
+            };
+            for (int64_t R = 0; grid.visit_ring(p, R, visit); ++R) {
+                const float g = grid.guaranteed_radius(p, R);
+                if (best[k - 1] < g * g * (1.f - 1e-5f)) break;
             }
             r2[size_t(i)] = double(best[k - 1]);
         }
@@ -150,22 +165,33 @@ bool ClusterVisibility::blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const {
 namespace {
 // The k_candidates nearest centres whose normal is within 90° of n, nearest first (insertion into
 // a short sorted list; ties to the lower index), and the nearest centre of all. Returns the count.
+// With the centres' grid the rings stop once the k-th candidate lies within the searched radius;
+// comparisons are on (distance², index), so the list is the scan's whatever the visiting order.
 size_t facing_candidates(const ClusterVisibility &v, Vec3f p, Vec3f n, std::pair<float, uint32_t> *near,
                          uint32_t &nearest) {
     constexpr size_t k = ClusterVisibility::k_candidates;
     size_t found = 0;
     nearest = 0;
-    float d_nearest = std::numeric_limits<float>::infinity();
-    for (size_t c = 0; c < v.position.size(); ++c) {
+    std::pair<float, uint32_t> best_all{std::numeric_limits<float>::infinity(), 0u};
+    auto visit = [&](uint32_t c) {
         const Vec3f d = v.position[c] - p;
-        const float r2 = dot(d, d);
-        if (r2 < d_nearest) d_nearest = r2, nearest = uint32_t(c);
-        if (!(dot(v.normal[c], n) > 0.f)) continue;
-        if (found == k && !(r2 < near[k - 1].first)) continue;
+        const std::pair<float, uint32_t> key{dot(d, d), c};
+        if (key < best_all) best_all = key;
+        if (!(dot(v.normal[c], n) > 0.f)) return;
+        if (found == k && !(key < near[k - 1])) return;
         size_t i = found < k ? found++ : k - 1;
-        for (; i > 0 && r2 < near[i - 1].first; --i) near[i] = near[i - 1];
-        near[i] = {r2, uint32_t(c)};
+        for (; i > 0 && key < near[i - 1]; --i) near[i] = near[i - 1];
+        near[i] = key;
+    };
+    if (v.centres.empty() || !is_finite(p)) {
+        for (size_t c = 0; c < v.position.size(); ++c) visit(uint32_t(c));
+    } else {
+        for (int64_t R = 0; v.centres.visit_ring(p, R, visit); ++R) {
+            const float g = v.centres.guaranteed_radius(p, R);
+            if (found == k && near[k - 1].first < g * g * (1.f - 1e-5f)) break;
+        }
     }
+    nearest = best_all.second;
     return found;
 }
 }  // namespace
@@ -189,7 +215,10 @@ int ClusterVisibility::receiver_clusters(Vec3f p, Vec3f n, uint32_t *ids, float 
     // The visible candidates, nearest first (their squared distances in d2).
     float d2[k_candidates];
     int seen = 0;
-    for (size_t i = 0; i < found && (blend <= 1 ? seen < 1 : true); ++i) {
+    // Segment tests are the cost: stop at the first visible one (blend 1) or at K + 1 (the weights
+    // need v_{K+1}'s distance).
+    const int wanted = blend <= 1 ? 1 : blend + 1;
+    for (size_t i = 0; i < found && seen < wanted; ++i) {
         const uint32_t c = near[i].second;
         if (!blocked(p, n, position[c], normal[c])) ids[seen] = c, d2[seen] = near[i].first, ++seen;
     }
@@ -279,6 +308,7 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
         b = e;
     }
     const size_t C = out.position.size();
+    out.centres = PointGrid(out.position, float(g));
     out.node_cluster.resize(m);
     parallel_for(0, int64_t(m), 256, [&](int64_t b, int64_t e) {
         for (int64_t j = b; j < e; ++j) out.node_cluster[size_t(j)] = out.cluster_of(pos[size_t(j)], nrm[size_t(j)]);

@@ -2,7 +2,6 @@
 #include "ltm/points/transport_prior.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -12,6 +11,7 @@
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
 #include "ltm/points/patch_form_factor.h"
+#include "ltm/points/point_grid.h"
 #include "ltm/points/power_balance.h"
 
 namespace ltm {
@@ -131,62 +131,12 @@ inline float sparse_dot(const float *vals, const std::vector<std::pair<uint32_t,
     return s;
 }
 
-// The near field (TransportPrior::patches): nodes within 2.5 s of a receiver (s = √a, the side of
-// a node's square) by a uniform grid of that edge, over places.
-class NearNodes {
-public:
-    NearNodes(const std::vector<Vec3f> &pos, float side) : m_side(side), m_reach(2.5f * side) {
-        Vec3f lo = pos[0], hi = pos[0];
-        for (const Vec3f &q : pos) lo = min(lo, q), hi = max(hi, q);
-        // Coarser than the reach where the house would need more than 2^24 cells (never on
-        // generated houses: ~10⁵–10⁶).
-        m_cell = m_reach;
-        auto count = [&](float cell) {
-            double n = 1;
-            for (int a = 0; a < 3; ++a) n *= std::floor(double(hi[a] - lo[a]) / cell) + 1;
-            return n;
-        };
-        while (count(m_cell) > double(1 << 24)) m_cell *= 2.f;
-        m_lo = lo;
-        for (int a = 0; a < 3; ++a) m_dims[a] = int64_t(std::floor(double(hi[a] - lo[a]) / m_cell)) + 1;
-        m_start.assign(size_t(m_dims[0] * m_dims[1] * m_dims[2] + 1), 0);
-        std::vector<size_t> cell_of(pos.size());
-        for (size_t j = 0; j < pos.size(); ++j) cell_of[j] = index(cell_coord(pos[j])), ++m_start[cell_of[j] + 1];
-        for (size_t c = 0; c + 1 < m_start.size(); ++c) m_start[c + 1] += m_start[c];
-        m_items.resize(pos.size());
-        std::vector<uint32_t> fill(m_start.begin(), m_start.end() - 1);
-        for (size_t j = 0; j < pos.size(); ++j) m_items[fill[cell_of[j]]++] = uint32_t(j);   // places in order
-    }
-    float side() const { return m_side; }
-    /// Calls f(place) for every node in the cells within the reach of p (a superset of the nodes
-    /// closer than the reach; the caller tests the distance).
-    template <class F> void visit(Vec3f p, F f) const {
-        if (!is_finite(p)) return;   // no near nodes (the far formula reports nothing sensible either)
-        int64_t lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max<int64_t>(0, int64_t(std::floor(double(p[a] - m_reach - m_lo[a]) / m_cell)));
-            hi[a] = std::min<int64_t>(m_dims[a] - 1, int64_t(std::floor(double(p[a] + m_reach - m_lo[a]) / m_cell)));
-        }
-        for (int64_t z = lo[2]; z <= hi[2]; ++z)
-            for (int64_t y = lo[1]; y <= hi[1]; ++y)
-                for (int64_t x = lo[0]; x <= hi[0]; ++x) {
-                    const size_t c = size_t((z * m_dims[1] + y) * m_dims[0] + x);
-                    for (size_t k = m_start[c]; k < m_start[c + 1]; ++k) f(m_items[k]);
-                }
-    }
-
-private:
-    std::array<int64_t, 3> cell_coord(Vec3f q) const {
-        std::array<int64_t, 3> c{};
-        for (int a = 0; a < 3; ++a) c[size_t(a)] = std::clamp<int64_t>(int64_t(std::floor(double(q[a] - m_lo[a]) / m_cell)), 0, m_dims[a] - 1);
-        return c;
-    }
-    size_t index(const std::array<int64_t, 3> &c) const { return size_t((c[2] * m_dims[1] + c[1]) * m_dims[0] + c[0]); }
-    float m_side, m_reach, m_cell = 0.f;
-    Vec3f m_lo{0.f};
-    int64_t m_dims[3] = {1, 1, 1};
-    std::vector<size_t> m_start;
-    std::vector<uint32_t> m_items;
+// The near field (TransportPrior::patches): the nodes (places) on a grid of the reach's edge, and
+// the side s = √a of their squares.
+struct NearNodes {
+    PointGrid grid;
+    float side;
+    NearNodes(const std::vector<Vec3f> &pos, float s) : grid(pos, 2.5f * s), side(s) {}
 };
 
 // Replaces the point formula by the square patch's exact form factor (points/patch_form_factor.h)
@@ -197,8 +147,8 @@ private:
 template <class Seen>
 void near_field(const NearNodes &near, const std::vector<Vec3f> &pos, const std::vector<Vec3f> &nrm, Vec3f p, Vec3f n,
                 Seen seen, float *row) {
-    const float s = near.side(), scale = float(k_pi) / (s * s);
-    near.visit(p, [&](uint32_t j) {
+    const float s = near.side, scale = float(k_pi) / (s * s);
+    near.grid.visit_ball(p, 2.5f * s, [&](uint32_t j) {
         const float r = length(pos[j] - p);
         if (!(r < 2.5f * s) || !seen(j)) return;
         const float beta = std::clamp((r - 1.5f * s) / s, 0.f, 1.f);

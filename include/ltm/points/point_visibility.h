@@ -29,6 +29,7 @@
 
 #include "ltm/core/math.h"
 #include "ltm/points/disc_occluder.h"
+#include "ltm/points/point_grid.h"
 
 namespace ltm {
 
@@ -97,6 +98,7 @@ struct ClusterVisibility {
     std::vector<uint8_t> visible;          ///< [C·C] symmetric; a cluster sees itself
     VoxelOccupancy occupancy;              ///< what the segments are tested against (and the cluster grid's size)
     DiscOccluder discs;                    ///< when not empty, what the segments are tested against instead
+    PointGrid centres;                     ///< the centres on a grid of the cluster cell's edge (empty: receivers scan them all)
     int blend = 1;                         ///< K of receiver_clusters (VisibilityOptions::blend)
     static constexpr int k_candidates = 8;   ///< facing centres a receiver considers
     bool empty() const { return position.empty(); }
