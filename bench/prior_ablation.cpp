@@ -67,7 +67,7 @@ int main(int argc, char **argv) {
     if (names.empty()) names = {"0:0", "2:1024", "2:2048", "2:4096", "1.5:2048", "3:2048"};
     for (const std::string &n : names) {
         // Fields H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]]: voxel edge, clusters, then optional the tangent splat, a
-        // factor on the node area a (with rows normalised, a only sets the near-field term a/π), a
+        // factor on the node area a (with rows normalised, a only sets the near-field term a/π and, with P, the patches' side and reach), a
         // disc radius (points/disc_occluder.h; 0 = voxels), lengths in spacings; the power balance
         // B (PriorBalance: 0 per channel, 1 grey, 2 none), the bounces K (0 = 8) and the clusters a
         // receiver's visibility blends L (VisibilityOptions::blend; 0 = 1); P = 1: the near field

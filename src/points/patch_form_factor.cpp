@@ -6,23 +6,37 @@
 
 namespace ltm {
 
+namespace {
+// The square's first side: ŷ × n_s where that is not short (it maps with quarter turns about ŷ and
+// mirrors), else x̂ made orthogonal to n_s (a floor or ceiling: the square's sides along x̂ and ẑ).
+Vec3f patch_tangent(Vec3f nc) {
+    const Vec3f t = cross(Vec3f(0.f, 1.f, 0.f), nc);
+    if (length(t) > 1e-4f) return normalize(t);
+    return normalize(Vec3f(1.f, 0.f, 0.f) - nc * nc.x);
+}
+}  // namespace
+
 float patch_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side) {
-    if (!(dot(nc, p - c) > 0.f)) return 0.f;   // behind the patch (or in its plane)
-    const Vec3f up(0.f, 1.f, 0.f);
-    const Vec3f t1 = std::abs(nc.y) > 0.99f ? Vec3f(1.f, 0.f, 0.f) : normalize(cross(up, nc));
-    const Vec3f t2 = cross(nc, t1);
+    // Behind the patch, in its plane, or within rounding of it (a coplanar neighbour on a tilted
+    // facet must not see the square from its own plane).
+    const float eps = 1e-5f * side;
+    if (!(dot(nc, p - c) > eps)) return 0.f;
+    const Vec3f t1 = patch_tangent(nc), t2 = cross(nc, t1);
     const float h = 0.5f * side;
-    // Vertices relative to p, then clipped to n·v ≥ 0 (Sutherland–Hodgman against one plane: a
-    // square gives at most 5 vertices).
+    // Vertices relative to p, clipped to n·v ≥ 0 (Sutherland–Hodgman against one plane). The
+    // heights n·v are formed from three scalars, Q ± A ± B, so their signs are those of an affine
+    // function on a parallelogram: the cut is convex (at most 5 vertices; 8 slots for safety).
     const Vec3f q = c - p;
+    const float Q = dot(n, q), A = h * dot(n, t1), B = h * dot(n, t2);
     const Vec3f square[4] = {q - t1 * h - t2 * h, q + t1 * h - t2 * h, q + t1 * h + t2 * h, q - t1 * h + t2 * h};
-    Vec3f v[5];
+    const float height[4] = {Q - A - B, Q + A - B, Q + A + B, Q - A + B};
+    Vec3f v[8];
     int count = 0;
-    for (int k = 0; k < 4; ++k) {
-        const Vec3f a = square[k], b = square[(k + 1) % 4];
-        const float da = dot(n, a), db = dot(n, b);
-        if (da >= 0.f) v[count++] = a;
-        if ((da >= 0.f) != (db >= 0.f)) v[count++] = a + (b - a) * (da / (da - db));
+    for (int k = 0; k < 4 && count <= 6; ++k) {
+        const int l = (k + 1) % 4;
+        const float da = height[k], db = height[l];
+        if (da >= 0.f) v[count++] = square[k];
+        if ((da >= 0.f) != (db >= 0.f)) v[count++] = square[k] + (square[l] - square[k]) * (da / (da - db));
     }
     if (count < 3) return 0.f;
     // γ_k = atan2(|a × b|, a · b): one square root per edge, and accurate at small angles (acos is not).

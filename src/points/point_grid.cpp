@@ -39,7 +39,12 @@ PointGrid::PointGrid(const std::vector<Vec3f> &points, float cell) {
     for (size_t j = 0; j < points.size(); ++j) m_items[fill[cell_of[j]]++] = uint32_t(j);
 }
 
-int64_t PointGrid::cell_index(float v, int a) const { return int64_t(std::floor(double(v - m_lo[a]) / double(m_cell))); }
+// In double throughout, as guaranteed_radius places the faces (a float difference may file a point
+// within an ulp of a face in the neighbouring cell); clamped before the cast (huge coordinates).
+int64_t PointGrid::cell_index(float v, int a) const {
+    const double c = std::floor((double(v) - double(m_lo[a])) / double(m_cell));
+    return int64_t(std::clamp(c, -1.0, double(m_dims[a])));
+}
 
 void PointGrid::coord(Vec3f p, int64_t c[3]) const {
     for (int a = 0; a < 3; ++a) c[a] = std::clamp<int64_t>(cell_index(p[a], a), 0, m_dims[a] - 1);

@@ -277,6 +277,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         for (int c = 0; c < 3; ++c) gain[c] = mean[c] > 0.f ? (*emission_scale)[c] / (float(k_pi) * mean[c]) : 0.f;
         for (auto &l : le) l = l * gain;
     }
+    if (vis.blend < 1) LTM_THROW("transport prior: visibility blend must be >= 1, got ", vis.blend);
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     double t_spacing = 0;
@@ -292,7 +293,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         } else {
             op = p, on = n;
         }
-        // The points' spacing (an O(M²) search) only when a length is given in spacings.
+        // The points' spacing (8th-neighbour distances) only when a length is given in spacings.
         const bool in_spacings = !(vis.voxel > 0.f) || vis.splat_spacings > 0.f || vis.disc_spacings > 0.f;
         const float spacing = in_spacings ? point_spacing(op) : 0.f;
         t_spacing = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -307,7 +308,6 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
                                discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell);
     }
-    if (vis.blend < 1) LTM_THROW("transport prior: visibility blend must be >= 1, got ", vis.blend);
     v.blend = vis.blend;
     const auto t1 = Clock::now();
     TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches);

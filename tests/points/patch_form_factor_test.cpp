@@ -20,7 +20,9 @@ double corner_rectangle(double X, double Y) {
 
 // ∫ over the square of max(0, cosθ_r) · max(0, cosθ_s) / (π r²) dA, by stratified Monte Carlo.
 double monte_carlo(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side) {
-    const Vec3f t1 = std::abs(nc.y) > 0.99f ? Vec3f(1.f, 0.f, 0.f) : normalize(cross(Vec3f(0.f, 1.f, 0.f), nc));
+    // The square's frame as the header defines it.
+    const Vec3f y_cross = cross(Vec3f(0.f, 1.f, 0.f), nc);
+    const Vec3f t1 = length(y_cross) > 1e-4f ? normalize(y_cross) : normalize(Vec3f(1.f, 0.f, 0.f) - nc * nc.x);
     const Vec3f t2 = cross(nc, t1);
     constexpr int g = 400;
     double sum = 0;
@@ -94,5 +96,29 @@ TEST(PatchFormFactor, FollowsTheTrainingSymmetriesAndTheUnit) {
         EXPECT_NEAR(patch_form_factor(turn(p), turn(n), turn(c), turn(nc), 0.3f), f, 1e-5f + 1e-4f * f) << i;
         EXPECT_NEAR(patch_form_factor(mirror(p), mirror(n), mirror(c), mirror(nc), 0.3f), f, 1e-5f + 1e-4f * f) << i;
         EXPECT_NEAR(patch_form_factor(p * 10.f, n, c * 10.f, nc, 3.f), f, 1e-5f + 1e-4f * f) << i;
+    }
+}
+
+// Tilted facets: a receiver on the patch's own tilted plane (within rounding) gets 0, not a
+// spurious ~1 from a square that rounding lifts in front of it; a normal near ±ŷ keeps a square
+// frame in its own plane that maps with quarter turns.
+TEST(PatchFormFactor, TiltedPlanesAndNearVerticalNormals) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    for (int i = 0; i < 500; ++i) {
+        const Vec3f nc = normalize(Vec3f(u(rng), u(rng), u(rng)));
+        const Vec3f c(u(rng), u(rng), u(rng));
+        Vec3f t = cross(nc, Vec3f(0.3f, 0.5f, 0.7f));
+        t = normalize(t);
+        const Vec3f p = c + t * (0.05f * (1.f + u(rng)));   // in the plane, near or inside the square
+        EXPECT_EQ(patch_form_factor(p, nc, c, nc, 0.2f), 0.f) << i;
+    }
+    auto turn = [](Vec3f v) { return Vec3f(v.z, v.y, -v.x); };
+    for (int i = 0; i < 100; ++i) {
+        const Vec3f nc = normalize(Vec3f(0.05f * u(rng), 1.f, 0.05f * u(rng)));   // |n.y| > 0.99
+        const Vec3f c(0.f), p(0.3f * u(rng), 0.2f + 0.1f * u(rng), 0.3f * u(rng)), n = normalize(Vec3f(u(rng), -1.f, u(rng)));
+        const float f = patch_form_factor(p, n, c, nc, 0.3f);
+        EXPECT_NEAR(patch_form_factor(turn(p), turn(n), turn(c), turn(nc), 0.3f), f, 1e-5f + 1e-4f * f) << i;
+        EXPECT_NEAR(f, monte_carlo(p, n, c, nc, 0.3f), 2e-3 + 5e-3 * f) << i;
     }
 }

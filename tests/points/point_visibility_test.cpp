@@ -370,3 +370,29 @@ TEST(PointVisibility, BlendedVisibilityHasNoSeams) {
     vis.blend = 0;
     EXPECT_THROW(prior(true, 0), Error);
 }
+
+// The solve and the gather work in cluster order (places) and map back: with occlusion, blended
+// visibility and patches, reversing the nodes' order permutes the exitance and leaves the gather
+// unchanged (to summation order).
+TEST(PointVisibility, NodeOrderPlaysNoPart) {
+    VisibilityOptions vis;
+    vis.voxel_spacings = 1.f, vis.disc_spacings = 1.f, vis.clusters = 256, vis.blend = 4;
+    const Points pts = two_rooms(true);
+    auto solve_order = [&](bool reversed) {
+        PointSet sp(scene_point_columns(), pts.p.size());
+        const size_t m = pts.p.size();
+        for (size_t i = 0; i < m; ++i) {
+            const size_t j = reversed ? m - 1 - i : i;
+            sp.set_vec3(i, 0, pts.p[j]), sp.set_vec3(i, 3, pts.n[j]), sp.set_vec3(i, 6, pts.rho[j]), sp.set_vec3(i, 9, pts.le[j]);
+        }
+        return solve_transport_prior(sp, k_spacing * k_spacing, 6, nullptr, vis, nullptr, PriorBalance::none, true);
+    };
+    const TransportPrior a = solve_order(false), b = solve_order(true);
+    const size_t m = pts.p.size();
+    for (size_t i = 0; i < m; ++i)
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(b.exitance[m - 1 - i][c], a.exitance[i][c], 1e-4f * a.exitance[i][c] + 1e-6f) << i;
+    const std::vector<Vec3f> qp{{3.2f, 0.01f, 1.f}, {1.f, 0.01f, 1.f}, {0.02f, 1.2f, 0.7f}, {1.98f, 0.02f, 0.3f}};
+    const std::vector<Vec3f> qn{{0, 1, 0}, {0, 1, 0}, {1, 0, 0}, {0, 1, 0}};
+    const auto ea = gather(a, qp, qn), eb = gather(b, qp, qn);
+    for (size_t i = 0; i < ea.size(); ++i) EXPECT_NEAR(eb[i], ea[i], 1e-4f * ea[i] + 1e-6f) << i;
+}

@@ -12,10 +12,9 @@
 // exact contour integral (the polygon's edges seen from p, e.g. Baum, Rushmeier & Winget 1989):
 //     F = (1/2π) Σ_k γ_k · n·(v_k × v_{k+1})/|v_k × v_{k+1}|,   γ_k = ∠(v_k, v_{k+1}),
 // v_k the vertices relative to p, after clipping the square to the receiver's hemisphere
-// (n·v ≥ 0). A receiver behind the patch's plane gets 0. The square's sides follow
-// t₁ = normalise(ŷ × n_s) (x̂ when n_s is near ±ŷ) and t₂ = n_s × t₁: the frame maps with the scene
-// under the training symmetries (rotations about ŷ by quarter turns, mirrors) and is independent of
-// the unit.
+// (n·v ≥ 0). A receiver behind the patch's plane, in it or within 10⁻⁵ of the side of it gets 0. The square's sides follow t₁ = normalise(ŷ × n_s) (when n_s is ±ŷ: x̂, made orthogonal
+// to n_s) and t₂ = n_s × t₁: the frame maps with the scene under the training symmetries (rotations
+// about ŷ by quarter turns, mirrors) and is independent of the unit.
 #pragma once
 
 #include "ltm/core/math.h"
@@ -23,7 +22,7 @@
 namespace ltm {
 
 /// Form factor from the element (p, unit normal n) to the square of side `side` centred at c with
-/// unit normal nc (frame in the header): in [0, 1]. 0 when p is behind the square's plane.
+/// unit normal nc (frame in the header): in [0, 1]. 0 when p is behind the square's plane or in it.
 float patch_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side);
 
 }  // namespace ltm

@@ -45,7 +45,7 @@ public:
         return any || R == 0;
     }
     /// After rings 0..R around p: every point closer to p than this has been visited (a lower
-    /// bound; p inside the grid's box).
+    /// bound, also for p outside the grid's box).
     float guaranteed_radius(Vec3f p, int64_t R) const;
     /// Calls f(index) for every point in the cells that meet the ball (p, r): a superset of the
     /// points closer than r.
@@ -65,7 +65,7 @@ public:
     }
 
 private:
-    int64_t cell_index(float v, int a) const;   ///< unclamped
+    int64_t cell_index(float v, int a) const;   ///< clamped to [−1, dims] (outside on either side)
     void coord(Vec3f p, int64_t c[3]) const;    ///< clamped into the grid
     float m_cell = 0.f;
     Vec3f m_lo{0.f};

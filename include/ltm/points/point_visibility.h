@@ -87,8 +87,9 @@ struct VisibilityOptions {
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th
 /// nearest other point (π r₈² holds ~8 points of an area-uniform sample). Free of ties (a tie
-/// swaps which neighbour, not the distance), equivariant with the unit. O(M²), deterministic.
-/// Throws ltm::Error with fewer than 9 points.
+/// swaps which neighbour, not the distance), equivariant with the unit. By ring searches on a grid
+/// (points/point_grid.h), exactly the values a scan of all pairs gives; deterministic.
+/// Throws ltm::Error with fewer than 9 points or a non-finite one.
 float point_spacing(const std::vector<Vec3f> &points);
 
 /// Which node clusters see each other. Empty when visibility is off.

@@ -61,7 +61,8 @@ struct TransportPrior {
 };
 
 /// Solves D bounces among m nodes. position/normal/albedo/radiance: m entries each; node_area > 0.
-/// O(m²) time, O(m²) floats of memory for the transport (m = 4 096: 64 MiB). Deterministic at any
+/// O(m²) time and floats of memory for the transport at most (m = 4 096: 64 MiB; with occlusion
+/// each node stores only the clusters it sees). Deterministic at any
 /// thread count. Throws ltm::Error on mismatched sizes, no nodes, node_area ≤ 0 or bounces < 0.
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
