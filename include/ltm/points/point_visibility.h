@@ -97,7 +97,7 @@ struct ClusterVisibility {
     std::vector<Vec3f> position, normal;   ///< [C] cluster centres (nodes)
     std::vector<uint32_t> node_cluster;    ///< [m] each node's cluster
     std::vector<uint8_t> visible;          ///< [C·C] symmetric; a cluster sees itself
-    VoxelOccupancy occupancy;              ///< what the segments are tested against (and the cluster grid's size)
+    VoxelOccupancy occupancy;              ///< what the segments are tested against without discs; its centre anchors the cluster grid (and, without discs, its voxel count sizes it)
     DiscOccluder discs;                    ///< when not empty, what the segments are tested against instead
     PointGrid centres;                     ///< the centres on a grid of the cluster cell's edge (empty: receivers scan them all)
     int blend = 1;                         ///< K of receiver_clusters (VisibilityOptions::blend)
