@@ -135,10 +135,7 @@ float point_spacing(const std::vector<Vec3f> &points) {
                 for (; s > 0 && q < best[s - 1]; --s) best[s] = best[s - 1];
                 best[s] = q;
             };
-            for (int64_t R = 0; grid.visit_ring(p, R, visit); ++R) {
-                const float g = grid.guaranteed_radius(p, R);
-                if (best[k - 1] < g * g * (1.f - 1e-5f)) break;
-            }
+            grid.visit_nearest(p, visit, [&] { return best[k - 1]; });
             r2[size_t(i)] = double(best[k - 1]);
         }
     });
@@ -186,10 +183,7 @@ size_t facing_candidates(const ClusterVisibility &v, Vec3f p, Vec3f n, std::pair
     if (v.centres.empty() || !is_finite(p)) {
         for (size_t c = 0; c < v.position.size(); ++c) visit(uint32_t(c));
     } else {
-        for (int64_t R = 0; v.centres.visit_ring(p, R, visit); ++R) {
-            const float g = v.centres.guaranteed_radius(p, R);
-            if (found == k && near[k - 1].first < g * g * (1.f - 1e-5f)) break;
-        }
+        v.centres.visit_nearest(p, visit, [&] { return found == k ? near[k - 1].first : std::numeric_limits<float>::infinity(); });
     }
     nearest = best_all.second;
     return found;

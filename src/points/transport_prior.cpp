@@ -157,6 +157,36 @@ void near_field(const NearNodes &near, const std::vector<Vec3f> &pos, const std:
     });
 }
 
+// The nodes in cluster order with what a row of Ĝ needs — positions and normals (and their
+// structure-of-arrays copy), each place's cluster, the near-field grid — shared by the solve
+// (receivers: the nodes) and the gather (receivers: the queries).
+struct PlacedNodes {
+    const ClusterVisibility &vis;
+    ClusterOrder co;
+    std::vector<Vec3f> pos, nrm;
+    Soa soa;
+    std::vector<uint32_t> place_cluster;   ///< [m] the cluster of each place (0 without occlusion)
+    std::unique_ptr<NearNodes> near;       ///< null without patches
+    float reg;                             ///< a/π
+    PlacedNodes(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal, const ClusterVisibility &v,
+                float node_area, bool patches)
+        : vis(v), co(v, position.size()), pos(co.permuted(position)), nrm(co.permuted(normal)), soa(pos, nrm),
+          place_cluster(position.size(), 0), reg(node_area / float(k_pi)) {
+        if (!vis.empty())
+            for (size_t j = 0; j < pos.size(); ++j) place_cluster[j] = vis.node_cluster[co.order[j]];
+        if (patches) near = std::make_unique<NearNodes>(pos, std::sqrt(node_area));
+    }
+    /// Ĝ's unnormalised row for the receiver (p, n) over the places its view sees (row[place],
+    /// the others untouched): the point formula, the near field, times its cluster's weight.
+    void row(const ReceiverView &view, Vec3f p, Vec3f n, float *row) const {
+        for (const auto &[lo, hi] : view.runs) transfer_row(soa, lo, hi, p, n, reg, row);
+        if (near) near_field(*near, pos, nrm, p, n, [&](uint32_t j) { return vis.empty() || view.weight[place_cluster[j]] > 0.f; }, row);
+        if (!vis.empty())
+            for (const auto &[lo, hi] : view.runs)
+                for (size_t j = lo; j < hi; ++j) row[j] *= view.mask[j];
+    }
+};
+
 }  // namespace
 
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
@@ -180,17 +210,10 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     if (bounces == 0) return out;
     // Everything in cluster order (places): a node's row is then the runs of places it sees, and
     // the transport Ĝ is stored sparse — only what each node sees (about a room's worth of a house).
-    const ClusterOrder co(vis, m);
-    const std::vector<Vec3f> pos = co.permuted(position), nrm = co.permuted(normal), rho = co.permuted(albedo);
-    const Soa soa(pos, nrm);
-    const float reg = node_area / float(k_pi);
-    const std::unique_ptr<NearNodes> near = patches ? std::make_unique<NearNodes>(pos, std::sqrt(node_area)) : nullptr;
-    std::vector<uint32_t> place_cluster(m, 0);
-    if (!vis.empty())
-        for (size_t j = 0; j < m; ++j) place_cluster[j] = vis.node_cluster[co.order[j]];
-    auto seen = [&](const ReceiverView &v) {
-        return [&](uint32_t j) { return vis.empty() || v.weight[place_cluster[j]] > 0.f; };
-    };
+    const PlacedNodes nodes(position, normal, vis, node_area, patches);
+    const ClusterOrder &co = nodes.co;
+    const std::vector<Vec3f> &pos = nodes.pos, &nrm = nodes.nrm;
+    const std::vector<Vec3f> rho = co.permuted(albedo);
     std::vector<std::vector<float>> g(m);                                 // [m] packed row values
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> g_runs(m);   // [m] their runs of places
     parallel_for(0, int64_t(m), 16, [&](int64_t b, int64_t e) {
@@ -199,15 +222,10 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         for (int64_t i = b; i < e; ++i) {
             const uint32_t node = co.order[size_t(i)];
             view.set(vis, co, pos[size_t(i)], nrm[size_t(i)], vis.empty() ? nullptr : &vis.node_cluster[node]);
-            for (const auto &[lo, hi] : view.runs) transfer_row(soa, lo, hi, pos[size_t(i)], nrm[size_t(i)], reg, row.data());
-            if (near) near_field(*near, pos, nrm, pos[size_t(i)], nrm[size_t(i)], seen(view), row.data());
+            nodes.row(view, pos[size_t(i)], nrm[size_t(i)], row.data());
             float sum = 0.f;
             size_t len = 0;
-            for (const auto &[lo, hi] : view.runs) {
-                if (!vis.empty())
-                    for (size_t j = lo; j < hi; ++j) row[j] *= view.mask[j];
-                sum += sum8(row.data() + lo, hi - lo), len += hi - lo;
-            }
+            for (const auto &[lo, hi] : view.runs) sum += sum8(row.data() + lo, hi - lo), len += hi - lo;
             const float inv = sum > 0.f ? 1.f / sum : 0.f;
             std::vector<float> &vals = g[size_t(i)];
             vals.reserve(len);
@@ -321,16 +339,10 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                             size_t n, float *out) {
     if (stride < 3) LTM_THROW("transport prior: row stride ", stride, " < 3");
     const size_t m = prior.position.size();
-    const float reg = prior.area / float(k_pi);
     const ClusterVisibility &vis = prior.visibility;
     // Nodes in cluster order: a receiver visits the runs of clusters it sees and skips the rest.
-    const ClusterOrder co(vis, m);
-    const std::vector<Vec3f> pos = co.permuted(prior.position), nrm = co.permuted(prior.normal);
-    const Soa soa(pos, nrm);
-    const std::unique_ptr<NearNodes> near = prior.patches ? std::make_unique<NearNodes>(pos, std::sqrt(prior.area)) : nullptr;
-    std::vector<uint32_t> place_cluster(m, 0);
-    if (!vis.empty())
-        for (size_t j = 0; j < m; ++j) place_cluster[j] = vis.node_cluster[co.order[j]];
+    const PlacedNodes nodes(prior.position, prior.normal, vis, prior.area, prior.patches);
+    const ClusterOrder &co = nodes.co;
     std::vector<float> ex[3];
     for (int c = 0; c < 3; ++c)
         for (size_t j = 0; j < m; ++j) ex[c].push_back(prior.exitance[co.order[j]][c]);
@@ -345,12 +357,8 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
             // run by run in a fixed order: the same at any thread count.
             double den = 0, num[3] = {0, 0, 0};
             float *r = row.data();
-            for (const auto &[lo, hi] : view.runs) transfer_row(soa, lo, hi, p, nq, reg, r);
-            if (near)
-                near_field(*near, pos, nrm, p, nq, [&](uint32_t j) { return vis.empty() || view.weight[place_cluster[j]] > 0.f; }, r);
+            nodes.row(view, p, nq, r);
             for (const auto &[lo, hi] : view.runs) {
-                if (!vis.empty())
-                    for (size_t j = lo; j < hi; ++j) r[j] *= view.mask[j];
                 den += sum8(r + lo, hi - lo);
                 for (int k = 0; k < 3; ++k) num[k] += dot8(r + lo, ex[k].data() + lo, hi - lo);
             }

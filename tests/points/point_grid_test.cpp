@@ -1,9 +1,10 @@
-// point_grid_test.cpp: the ring search returns exactly what a scan of every point returns — the
+// point_grid_test.cpp: the ring search (visit_nearest) returns exactly what a scan of every point returns — the
 // k nearest points of queries inside and outside the grid, the points' spacing, a receiver's
 // nearest cluster centres — and bad input.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include "ltm/core/error.h"
@@ -52,11 +53,14 @@ TEST(PointGrid, RingSearchEqualsAScan) {
             for (uint32_t j = 0; j < pts.size(); ++j) scan.emplace_back(dot(pts[j] - q, pts[j] - q), j);
             std::partial_sort(scan.begin(), scan.begin() + k, scan.end());
             std::vector<std::pair<float, uint32_t>> ring;
-            for (int64_t R = 0; grid.visit_ring(q, R, [&](uint32_t j) { ring.emplace_back(dot(pts[j] - q, pts[j] - q), j); }); ++R) {
-                std::sort(ring.begin(), ring.end());
-                const float g = grid.guaranteed_radius(q, R);
-                if (ring.size() >= k && ring[k - 1].first < g * g) break;
-            }
+            grid.visit_nearest(
+                q, [&](uint32_t j) { ring.emplace_back(dot(pts[j] - q, pts[j] - q), j); },
+                [&] {
+                    if (ring.size() < k) return std::numeric_limits<float>::infinity();
+                    std::vector<std::pair<float, uint32_t>> s = ring;
+                    std::nth_element(s.begin(), s.begin() + (k - 1), s.end());
+                    return s[k - 1].first;
+                });
             std::sort(ring.begin(), ring.end());
             ASSERT_GE(ring.size(), k);
             for (size_t i = 0; i < k; ++i) ASSERT_EQ(ring[i], scan[i]) << "cell " << cell << " query " << t << " rank " << i;
@@ -66,7 +70,9 @@ TEST(PointGrid, RingSearchEqualsAScan) {
             grid.visit_ball(q, r, [&](uint32_t j) { ball.push_back(j); });
             std::sort(ball.begin(), ball.end());
             for (uint32_t j = 0; j < pts.size(); ++j)
-                if (length(pts[j] - q) < r) ASSERT_TRUE(std::binary_search(ball.begin(), ball.end(), j)) << j;
+                if (length(pts[j] - q) < r) {
+                    ASSERT_TRUE(std::binary_search(ball.begin(), ball.end(), j)) << j;
+                }
         }
     }
 }

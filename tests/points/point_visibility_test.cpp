@@ -395,4 +395,12 @@ TEST(PointVisibility, NodeOrderPlaysNoPart) {
     const std::vector<Vec3f> qn{{0, 1, 0}, {0, 1, 0}, {1, 0, 0}, {0, 1, 0}};
     const auto ea = gather(a, qp, qn), eb = gather(b, qp, qn);
     for (size_t i = 0; i < ea.size(); ++i) EXPECT_NEAR(eb[i], ea[i], 1e-4f * ea[i] + 1e-6f) << i;
+    // And the same numbers at any thread count.
+    const int threads = num_threads();
+    set_num_threads(1);
+    const TransportPrior one = solve_order(false);
+    const auto e_one = gather(one, qp, qn);
+    set_num_threads(threads);
+    EXPECT_EQ(one.exitance, a.exitance);
+    EXPECT_EQ(e_one, ea);
 }

@@ -44,6 +44,16 @@ public:
         }
         return any || R == 0;
     }
+    /// A k-nearest search: visit(index) for the points ring by ring around p until kth() — the
+    /// caller's current k-th best squared distance, +∞ while it has fewer — lies within the
+    /// searched radius (less a relative 10⁻⁵ against rounding), or every point has been visited.
+    /// The caller then holds exactly what a scan of every point gives, if it ranks the same way.
+    template <class Visit, class Kth> void visit_nearest(Vec3f p, Visit visit, Kth kth) const {
+        for (int64_t R = 0; visit_ring(p, R, visit); ++R) {
+            const float g = guaranteed_radius(p, R);
+            if (kth() < g * g * (1.f - 1e-5f)) return;
+        }
+    }
     /// After rings 0..R around p: every point closer to p than this has been visited (a lower
     /// bound, also for p outside the grid's box).
     float guaranteed_radius(Vec3f p, int64_t R) const;
