@@ -11,6 +11,7 @@
 #include "ltm/points/point_set.h"
 
 #include <optional>
+#include <vector>
 
 namespace ltm {
 
@@ -32,6 +33,24 @@ torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces) {
 }
 
 namespace {
+// Mean over the rows of t [N] or [N, C] -> [] or [C] (t's dtype and device), summed in row order in
+// double on the CPU. torch's reductions split the rows among its threads, so their last bit
+// depended on --threads; the prior's grids and clusters (cell = ⌊x/h⌋) turned one ulp of ℓ into
+// differences of ~1e-3 in Ê⁺ between `ltm render --threads 1` and `--threads 2`.
+torch::Tensor ordered_mean(const torch::Tensor &t) {
+    TORCH_CHECK((t.dim() == 1 || t.dim() == 2) && t.size(0) > 0, "ordered_mean: expected [N] or [N, C], N > 0, got ", t.sizes());
+    const auto c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous().view({t.size(0), -1});
+    const int64_t rows = c.size(0), cols = c.size(1);
+    std::vector<double> sum(size_t(cols), 0.0);
+    const double *v = c.data_ptr<double>();
+    for (int64_t i = 0; i < rows; ++i)
+        for (int64_t j = 0; j < cols; ++j) sum[size_t(j)] += v[i * cols + j];
+    auto out = torch::empty({cols}, torch::kFloat64);
+    for (int64_t j = 0; j < cols; ++j) out[j] = sum[size_t(j)] / double(rows);
+    if (t.dim() == 1) out = out.squeeze(0);
+    return out.to(t.options());
+}
+
 // Scene point rows [n, 12] as a scene point table (the transport prior's input, points/).
 PointSet scene_point_table(const torch::Tensor &rows) {
     const auto c = rows.detach().to(torch::kCPU, torch::kFloat32).contiguous();
@@ -57,7 +76,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
     const int64_t m_all = sp.size(0), k = geometry.groups.size(1);
     const auto framed = torch::cat({(sp.slice(1, 0, 3) - n.center) / n.length, sp.slice(1, 3, 12)}, 1);
     auto nodes = physics.prior_nodes == "points" ? framed : framed.index_select(0, geometry.centers);
-    if (((nodes.slice(1, 9, 12).mean(0) <= 0) & (n.emission > 0)).any().item<bool>()) nodes = framed;
+    if (((nodes.slice(1, 9, 12).amax(0) <= 0) & (n.emission > 0)).any().item<bool>()) nodes = framed;
     const double point_area = k_pi * 2.25 / double(k);
     const double area = point_area * double(m_all) / double(nodes.size(0));
     const auto e = n.emission.to(torch::kCPU, torch::kFloat32);
@@ -102,7 +121,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
         // ℓ = mean |p_j − p_centre| over every (FPS centre, group member) pair: equivariant with the unit.
         const auto c = pos.index_select(0, geometry.centers).unsqueeze(1);                               // [m, 1, 3]
         const auto g = pos.index_select(0, geometry.groups.reshape(-1)).view({geometry.groups.size(0), -1, 3});   // [m, k, 3]
-        n.length = (g - c).norm(2, -1).mean();
+        n.length = ordered_mean((g - c).norm(2, -1).reshape(-1));
         const double l = n.length.item<double>();
         if (!(l > 0.0) || !std::isfinite(l))
             LTM_THROW("scene points have zero extent (mean neighbour distance ", l, "): no length scale");
@@ -119,11 +138,11 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
                 LTM_THROW("emission scale must be finite and >= 0");
             n.emission = emission_scale.to(opts);
         } else {
-            n.emission = k_pi * sp.slice(1, 9, 12).mean(0);
+            n.emission = k_pi * ordered_mean(sp.slice(1, 9, 12));
         }
         // No emission among the scene points: S = 0, so E⁺ = 0 (no light, no indirect light).
         n.output = n.emission;
-        if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(sp.slice(1, 6, 9).mean(0), physics.prior_bounces);
+        if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(ordered_mean(sp.slice(1, 6, 9)), physics.prior_bounces);
         if (physics.prior_field == "transport") n.transport = solve_transport(sp, geometry, n, physics);
     }
     return n;

@@ -1,7 +1,9 @@
 // embree_accel.cpp: Embree 3 behind one file (STYLE.md rule 6).
 #include "ltm/render/embree_accel.h"
 
+#include <algorithm>
 #include <cstring>
+#include <tuple>
 
 #include <unistd.h>
 
@@ -39,6 +41,8 @@ EmbreeAccel::EmbreeAccel(const Scene &scene) : m_scene(scene) {
     throw_if_error("creating the scene");
     if (!m_rtc_scene) LTM_THROW("EmbreeAccel: cannot create an Embree scene");
     rtcSetSceneBuildQuality(m_rtc_scene.get(), RTC_BUILD_QUALITY_HIGH);
+    // hits() collects candidates through the intersection context's filter (null elsewhere).
+    rtcSetSceneFlags(m_rtc_scene.get(), RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     throw_if_error("creating the scene");
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const TriangleMesh &mesh = scene.meshes[m];
@@ -110,6 +114,50 @@ std::optional<Hit> EmbreeAccel::intersect(const Ray &ray) const {
     h.b1 = rh.hit.u, h.b2 = rh.hit.v;
     h.n = normalize(m_scene.meshes[h.mesh].cross_normal(h.triangle));
     return h;
+}
+
+namespace {
+// The context hits() passes to Embree: its filter sees every candidate hit (rtcIntersect1, N = 1;
+// the candidate's distance is in the ray's tfar), records it and rejects it, so the traversal
+// goes on to the next one.
+struct CollectContext {
+    RTCIntersectContext ctx;   // first member: Embree hands the filter this pointer
+    std::vector<Hit> *hits;
+};
+
+void collect_hit(const RTCFilterFunctionNArguments *args) {
+    const auto *c = reinterpret_cast<const CollectContext *>(args->context);
+    const auto *ray = reinterpret_cast<const RTCRay *>(args->ray);
+    const auto *hit = reinterpret_cast<const RTCHit *>(args->hit);
+    Hit h;
+    h.t = ray->tfar;
+    h.mesh = hit->geomID, h.triangle = hit->primID;
+    h.b1 = hit->u, h.b2 = hit->v;
+    c->hits->push_back(h);
+    args->valid[0] = 0;
+}
+}  // namespace
+
+std::vector<Hit> EmbreeAccel::hits(const Ray &ray) const {
+    m_rays.fetch_add(1, std::memory_order_relaxed);
+    std::vector<Hit> out;
+    CollectContext c;
+    rtcInitIntersectContext(&c.ctx);
+    c.ctx.filter = collect_hit;
+    c.hits = &out;
+    RTCRayHit rh;
+    rh.ray = to_rtc(ray);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_rtc_scene.get(), &c.ctx, &rh);
+    for (Hit &h : out) h.n = normalize(m_scene.meshes[h.mesh].cross_normal(h.triangle));
+    std::sort(out.begin(), out.end(), [](const Hit &a, const Hit &b) {
+        return std::tie(a.t, a.mesh, a.triangle) < std::tie(b.t, b.mesh, b.triangle);
+    });
+    // A triangle reported twice (Embree may test a primitive from two BVH leaves) counts once.
+    out.erase(std::unique(out.begin(), out.end(), [](const Hit &a, const Hit &b) { return a.mesh == b.mesh && a.triangle == b.triangle; }),
+              out.end());
+    return out;
 }
 
 bool EmbreeAccel::occluded(const Ray &ray) const {

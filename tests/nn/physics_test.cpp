@@ -436,3 +436,27 @@ TEST(Physics, FoldedPriorModelGivesTheNetworksNumbers) {
         EXPECT_GT(m->encode(f.sp, g).features.abs().max().item<float>(), 0.f);
     }
 }
+
+// ℓ, S and the output scale are summed in row order (ordered_mean in ltm_model.cpp): torch's
+// reductions split rows among its threads, and one ulp of ℓ moved the prior's grids enough that
+// `ltm render --threads 1` and `--threads 2` wrote images ~1e-3 apart.
+TEST(Physics, NormalisationIsTheSameAtAnyThreadCount) {
+    const ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/cpu.json"));
+    ASSERT_GE(cfg.scene_points, 4096);   // large enough for torch to split its reductions
+    const Scene scene = quad_light_room();
+    const auto sp = point_tensor(to_scene_points(sample_surface(scene, cfg.scene_points, 3, SampleStream::scene_points)));
+    const SceneGeometry g = LtmModel(cfg)->scene_geometry(sp);
+    const int threads = torch::get_num_threads();
+    torch::set_num_threads(1);
+    const SceneNormalization a = scene_normalization(sp, g, cfg.physics);
+    torch::set_num_threads(2);
+    const SceneNormalization b = scene_normalization(sp, g, cfg.physics);
+    torch::set_num_threads(threads);
+    EXPECT_TRUE(torch::equal(a.length, b.length)) << a.length.item<double>() - b.length.item<double>();
+    EXPECT_TRUE(torch::equal(a.emission, b.emission));
+    EXPECT_TRUE(torch::equal(a.output, b.output));
+    // And it is the mean it claims to be.
+    const auto c = sp.slice(1, 0, 3).index_select(0, g.centers).unsqueeze(1);
+    const auto m = sp.slice(1, 0, 3).index_select(0, g.groups.reshape(-1)).view({g.groups.size(0), -1, 3});
+    EXPECT_NEAR(a.length.item<double>(), (m - c).to(torch::kFloat64).norm(2, -1).mean().item<double>(), 1e-6 * a.length.item<double>());
+}

@@ -8,6 +8,7 @@
 #include "ltm/render/brute_accel.h"
 #include "ltm/render/embree_accel.h"
 #include "ltm/scene/builtin_scenes.h"
+#include "ltm/scene/mesh_builder.h"
 
 using namespace ltm;
 
@@ -89,4 +90,38 @@ TEST(EmbreeAccel, ConstructorThatThrowsReleasesWhatItMade) {
     const EmbreeAccel ok(good);
     EXPECT_TRUE(ok.intersect(Ray{{0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}}).has_value() ||
                 ok.intersect(Ray{{0.f, 0.f, 0.f}, {0.f, -1.f, 0.f}}).has_value());
+}
+
+// Two boxes stacked in the unit furnace box: box A's top and box B's bottom coincide at y = 0.5.
+// hits() lists every face a ray crosses, the coincident pair included, sorted by t, then mesh.
+TEST(EmbreeAccel, HitsListsEveryFaceInTheIntervalCoincidentOnesToo) {
+    Scene s = furnace_box(0.5f, 1.f);
+    TriangleMesh a, b;
+    a.name = "a", b.name = "b";
+    a.material = b.material = s.meshes[0].material;
+    add_box(a, {0.25f, 0.f, 0.25f}, {0.75f, 0.5f, 0.75f});
+    add_box(b, {0.25f, 0.5f, 0.25f}, {0.75f, 0.75f, 0.75f});
+    s.meshes.push_back(a), s.meshes.push_back(b);
+    const EmbreeAccel accel(s);
+    const Ray up{{0.4f, 0.3f, 0.6f}, {0.f, 1.f, 0.f}};
+    const std::vector<Hit> all = accel.hits(up);
+    ASSERT_EQ(all.size(), 4u);   // A's top, B's bottom, B's top, the furnace's ceiling
+    const float t[4] = {0.2f, 0.2f, 0.45f, 0.7f};
+    const uint32_t mesh[4] = {1, 2, 2, 0};
+    const float ny[4] = {1.f, -1.f, 1.f, -1.f};
+    for (size_t i = 0; i < 4; ++i) {
+        EXPECT_NEAR(all[i].t, t[i], 1e-6f) << i;
+        EXPECT_EQ(all[i].mesh, mesh[i]) << i;
+        EXPECT_NEAR(all[i].n.y, ny[i], 1e-6f) << i;
+    }
+    const auto first = accel.intersect(up);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->t, all[0].t);
+    // The interval bounds the list, as it bounds intersect().
+    EXPECT_EQ(accel.hits({up.o, up.d, 0.f, 0.3f}).size(), 2u);
+    EXPECT_EQ(accel.hits({up.o, up.d, 0.3f, 0.6f}).size(), 1u);
+    EXPECT_TRUE(accel.hits({up.o, up.d, 0.f, 0.1f}).empty());
+    // Embree's own closest-hit queries are unaffected by the context filter's scene flag.
+    EXPECT_FALSE(accel.occluded({up.o, up.d, 0.f, 0.1f}));
+    EXPECT_TRUE(accel.occluded({up.o, up.d, 0.f, 0.3f}));
 }

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ltm/render/ray.h"
 #include "ltm/scene/scene.h"
@@ -33,6 +34,9 @@ public:
     std::optional<Hit> intersect(const Ray &ray) const;
     /// True if anything is hit in (tmin, tmax). Thread-safe.
     bool occluded(const Ray &ray) const;
+    /// Every hit in (tmin, tmax), sorted by t, then mesh, then triangle (coincident faces all
+    /// appear, in an order that does not depend on the traversal). Thread-safe; counts one ray.
+    std::vector<Hit> hits(const Ray &ray) const;
     const Scene &scene() const { return m_scene; }
     /// Rays traced so far by this accelerator (closest-hit + occlusion), for rays/s reports.
     uint64_t rays_traced() const { return m_rays.load(std::memory_order_relaxed); }
