@@ -26,6 +26,9 @@ void declare(CLI::App &sub, EvalDirectionalArgs &a) {
     sub.add_option("--out", a.out, "Output directory: report.json, report.md, tiles.png")->required();
     sub.add_option("--points", a.opt.points_per_record, "Hemispheres per record, spread over its rows")
         ->capture_default_str()->check(CLI::Range(1, 1 << 20));
+    sub.add_option("--prior-cells", a.opt.prior_cells, "R of a row for the directional transport prior alone (R×R cells; 0: none)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 64));
     sub.add_option("--lmax", a.opt.l_max, "Highest SH degree fitted")->capture_default_str()->check(CLI::Range(0, 16));
     sub.add_option("--tiles", a.opt.tiles, "Points drawn as tiles: reference | head | SH l=2 | SH l=lmax")
         ->capture_default_str()->check(CLI::Range(0, 64));

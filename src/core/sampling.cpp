@@ -23,6 +23,26 @@ Vec3f sample_cosine_hemisphere(Vec2f u) {
     return {d.x, d.y, z};
 }
 
+Vec2f cosine_hemisphere_to_square(Vec3f w) {
+    // Disk point = (x, y) of the direction (Malley), then invert the concentric map.
+    const float x = w.x, y = w.y;
+    const float r = std::sqrt(x * x + y * y);
+    if (r == 0.f) return {0.5f, 0.5f};
+    float phi = std::atan2(y, x);   // (-π, π]
+    if (phi < -k_pi / 4.f) phi += 2.f * k_pi;
+    float a, b;   // in [-1, 1]²
+    if (phi < k_pi / 4.f) {             // right wedge: a = r, φ = π/4·b/a
+        a = r, b = phi * 4.f / k_pi * r;
+    } else if (phi < 3.f * k_pi / 4.f) { // top: b = r, φ = π/2 − π/4·a/b
+        b = r, a = -(phi - k_pi / 2.f) * 4.f / k_pi * r;
+    } else if (phi < 5.f * k_pi / 4.f) { // left: a = −r
+        a = -r, b = -(phi - k_pi) * 4.f / k_pi * r;
+    } else {                             // bottom: b = −r
+        b = -r, a = (phi - 3.f * k_pi / 2.f) * 4.f / k_pi * r;
+    }
+    return {clamp(0.5f * (a + 1.f), 0.f, 0x1.fffffep-1f), clamp(0.5f * (b + 1.f), 0.f, 0x1.fffffep-1f)};
+}
+
 Vec2f sample_uniform_triangle(Vec2f u) {
     float b0, b1;
     if (u.x < u.y) {

@@ -38,7 +38,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     res.resolution = R, res.radiance = dc.radiance;
     res.sh.assign(size_t(opt.l_max + 1), 0.0);
     res.head_beats_sh.assign(size_t(opt.l_max + 1), 0);
-    double ref2 = 0, gap_m = 0, gap_r = 0, e_model_sum = 0, e_ref_sum = 0, seconds = 0;
+    double ref2 = 0, prior_err = 0, gap_m = 0, gap_r = 0, e_model_sum = 0, e_ref_sum = 0, seconds = 0;
     std::vector<std::vector<Vec3f>> tile_rows;   // per tiled point: ref, head, SH 2, SH l_max
     for (const std::string &path : paths) {
         const SceneRecord r = read_record(path);
@@ -59,6 +59,9 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
             for (int c = 0; c < 9; ++c) qp.push_back(r.query_points.at(size_t(q), size_t(c)));
         const auto e_hat = model->predict_irradiance(rows_tensor(qp, 9), lat).contiguous();
         const Vec3f *head = reinterpret_cast<const Vec3f *>(pred.data_ptr<float>());
+        torch::Tensor prior_l;   // the directional transport prior's bins, [P·R², 3]
+        if (opt.prior_cells > 0 && lat.norm.transport)
+            prior_l = radiance_scale(rows_tensor(hemi.query, 9), rows_tensor(hemi.direction, 3), lat.norm, opt.prior_cells).contiguous();
         for (int64_t j = 0; j < np; ++j) {
             const size_t q = size_t(pts[size_t(j)]);
             const std::vector<Vec3f> ref(reinterpret_cast<const Vec3f *>(r.l_in.data()) + q * size_t(nb),
@@ -76,6 +79,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
             res.head += eh;
             res.uniform += sq_err(uniform.data(), ref.data(), size_t(nb));
             res.uniform_model += sq_err(uniform_model.data(), ref.data(), size_t(nb));
+            if (prior_l.defined()) prior_err += sq_err(reinterpret_cast<const Vec3f *>(prior_l.data_ptr<float>()) + size_t(j) * size_t(nb), ref.data(), size_t(nb));
             std::vector<std::vector<Vec3f>> fits;
             for (int l = 0; l <= opt.l_max; ++l) {
                 fits.push_back(sh.fit(ref, l));
@@ -100,6 +104,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     }
     const double norm = ref2 > 0 ? ref2 : 1.0;
     res.head /= norm, res.uniform /= norm, res.uniform_model /= norm;
+    if (opt.prior_cells > 0 && model->cfg.physics.prior_field == "transport") res.prior = prior_err / norm, res.prior_cells = opt.prior_cells;
     for (double &e : res.sh) e /= norm;
     res.hemisphere_gap_vs_model = gap_m / std::max(e_model_sum, 1e-30);
     res.hemisphere_gap_vs_ref = gap_r / std::max(e_ref_sum, 1e-30);
@@ -127,7 +132,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
 
 OrderedJson DirectionalEvalResult::to_json() const {
     OrderedJson j = {{"records", records}, {"points", points}, {"bin_resolution", resolution}, {"radiance", radiance},
-                     {"head_rel_mse", head}, {"uniform_rel_mse", uniform}, {"uniform_model_rel_mse", uniform_model}, {"sh_rel_mse", sh}, {"head_beats_sh_points", head_beats_sh},
+                     {"head_rel_mse", head}, {"uniform_rel_mse", uniform}, {"uniform_model_rel_mse", uniform_model}, {"prior_rel_mse", prior}, {"prior_cells", prior_cells}, {"sh_rel_mse", sh}, {"head_beats_sh_points", head_beats_sh},
                      {"hemisphere_gap_vs_model", hemisphere_gap_vs_model}, {"hemisphere_gap_vs_ref", hemisphere_gap_vs_ref},
                      {"seconds_per_point", seconds_per_point}};
     return j;
@@ -138,7 +143,9 @@ std::string DirectionalEvalResult::markdown() const {
     s << "| method | relative MSE of " << (radiance == "indirect" ? "L_in⁺" : "L_in") << " bins | points where the head is closer |\n"
       << "|---|---|---|\n";
     s << "| directional head (predicted) | " << head << " | |\n";
-    s << "| uniform radiance of the irradiance head's Ê (the head's start) | " << uniform_model << " | |\n";
+    s << "| uniform radiance of the irradiance head's Ê (a head's start without prior_cells) | " << uniform_model << " | |\n";
+    if (prior >= 0)
+        s << "| directional transport prior alone, " << prior_cells << "×" << prior_cells << " cells | " << prior << " | |\n";
     s << "| uniform radiance, reference's ∫ L cos (oracle floor) | " << uniform << " | |\n";
     for (size_t l = 0; l < sh.size(); ++l)
         s << "| SH best fit to the reference, l ≤ " << l << " (" << (l + 1) * (l + 1) << " coefficients) | " << sh[l] << " | "

@@ -288,11 +288,13 @@ torch::Tensor LtmModelImpl::predict_radiance(const torch::Tensor &query_points, 
     torch::NoGradGuard no_grad;
     TORCH_CHECK(direction.dim() == 2 && direction.size(1) == 3 && direction.size(0) == query_points.size(0),
                 "predict_radiance: direction must be [N, 3] for N = ", query_points.size(0), " queries, got ", direction.sizes());
+    if (!directional) LTM_THROW("model '", cfg.name, "' has no directional head (train one: ltm train --head directional)");
     std::vector<torch::Tensor> parts;
     for (int64_t s = 0; s < query_points.size(0); s += chunk) {
         const int64_t e = std::min(query_points.size(0), s + chunk);
         const auto qp = query_points.slice(0, s, e);
-        parts.push_back(radiance_from_z(decode_radiance(qp, direction.slice(0, s, e), latents), output_scale(qp, latents.norm)));
+        const auto d = direction.slice(0, s, e);
+        parts.push_back(radiance_from_z(decode_radiance(qp, d, latents), radiance_scale(qp, d, latents.norm, cfg.directional->prior_cells)));
     }
     return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
 }
@@ -309,7 +311,22 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }
 
-torch::Tensor radiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * (1.0 / k_pi) * torch::expm1(z); }
+torch::Tensor radiance_scale(const torch::Tensor &query_points, const torch::Tensor &direction, const SceneNormalization &norm,
+                             int cells) {
+    if (cells <= 0) return output_scale(query_points, norm) * (1.0 / k_pi);
+    if (!norm.transport) LTM_THROW("the directional prior (prior_cells ", cells, ") needs the transport prior (physics.prior_field)");
+    TORCH_CHECK(direction.dim() == 2 && direction.size(1) == 3 && direction.size(0) == query_points.size(0),
+                "radiance_scale: direction must be [N, 3] for N = ", query_points.size(0), " queries, got ", direction.sizes());
+    torch::NoGradGuard no_grad;
+    const auto q = normalize_query_points(query_points, norm).detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    const auto d = direction.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    auto out = torch::empty({q.size(0), 3}, torch::kFloat32);
+    const float *p = q.data_ptr<float>();
+    gather_transport_prior_radiance(*norm.transport, p, p + 3, 9, d.data_ptr<float>(), 3, size_t(q.size(0)), cells, out.data_ptr<float>());
+    return torch::maximum(out.to(norm.output.device()), (1e-3 / k_pi) * norm.output);
+}
+
+torch::Tensor radiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }
 
 torch::Tensor normalized_target(const torch::Tensor &target, const torch::Tensor &scale) {
     return torch::where(scale > 0, target / scale.clamp_min(1e-30), torch::zeros_like(target));

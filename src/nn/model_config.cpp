@@ -40,7 +40,9 @@ const ConfigFields<DirectionalConfig> &DirectionalConfig::fields() {
             .field("ffn_ratio", &C::ffn_ratio, "hidden width of each block's FFN = ffn_ratio · dim", between(1, 64))
             .field("direction_frequencies", &C::direction_frequencies, "F octaves of the direction's Fourier features sin/cos(2^k π ω)", between(0, 12))
             .field("bin_resolution", &C::bin_resolution, "R of the R×R hemisphere bins it is trained on and renders/guides with (paper: 32)", between(1, 256))
-            .field("radiance", &C::radiance, "what it predicts: L_in⁺ (scattered light only; direct light stays exact) or the paper's L_in (emitters included)", {}, {"indirect", "incident"});
+            .field("radiance", &C::radiance, "what it predicts: L_in⁺ (scattered light only; direct light stays exact) or the paper's L_in (emitters included)", {}, {"indirect", "incident"})
+            .field("prior_cells", &C::prior_cells, "the head predicts the ratio to the directional transport prior over R×R cells (0: to the uniform radiance Ê_prior/π)", between(0, 64))
+            .omit_default();
     return f;
 }
 
@@ -134,6 +136,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                                                              if (dc.dim % dc.groups != 0)
                                                                  LTM_THROW(d.where("groups"), ": dim ", dc.dim, " is not divisible by groups ", dc.groups);
                                                          });
+    if (c.directional && c.directional->prior_cells > 0 && c.physics.prior_field != "transport")
+        LTM_THROW(o.where("directional"), ": prior_cells needs physics.prior_field \"transport\" (the directional prior splits its gather)");
 }
 
 ModelConfig ModelConfig::from_file(const std::string &path) { return from_json(parse_json_file(path), path); }

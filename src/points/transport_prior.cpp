@@ -10,6 +10,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
+#include "ltm/core/sampling.h"
 #include "ltm/points/patch_form_factor.h"
 #include "ltm/points/point_grid.h"
 #include "ltm/points/power_balance.h"
@@ -364,6 +365,116 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
             }
             float *o = out + size_t(q) * 3;
             for (int k = 0; k < 3; ++k) o[k] = den > 0 ? float(num[k] / den) : 0.f;
+        }
+    });
+}
+
+void gather_transport_prior_radiance(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
+                                     const float *direction, size_t direction_stride, size_t n, int resolution, float *out) {
+    if (stride < 3 || direction_stride < 3) LTM_THROW("transport prior: row strides ", stride, ", ", direction_stride, " < 3");
+    if (resolution < 1 || resolution > 64) LTM_THROW("transport prior: radiance resolution ", resolution, " outside [1, 64]");
+    const size_t m = prior.position.size();
+    const ClusterVisibility &vis = prior.visibility;
+    const PlacedNodes nodes(prior.position, prior.normal, vis, prior.area, prior.patches);
+    const ClusterOrder &co = nodes.co;
+    std::vector<Vec3f> ex(m);
+    for (size_t j = 0; j < m; ++j) ex[j] = prior.exitance[co.order[j]];
+    // Runs of consecutive rows with one receiver: one histogram each.
+    auto same = [&](size_t a, size_t b) {
+        for (int c = 0; c < 3; ++c)
+            if (position[a * stride + size_t(c)] != position[b * stride + size_t(c)] ||
+                normal[a * stride + size_t(c)] != normal[b * stride + size_t(c)])
+                return false;
+        return true;
+    };
+    std::vector<size_t> start;
+    for (size_t q = 0; q < n; ++q)
+        if (q == 0 || !same(q, q - 1)) start.push_back(q);
+    start.push_back(n);
+    const int cells = resolution * resolution;
+    const double to_radiance = double(cells) / k_pi;   // L̂ = E_cell / (π/R²)
+    // A node's square (side s = √a) seen from distance r spans ~s/r radians; a cell ~1/R of the
+    // hemisphere's width. Binned at its centre alone, a near node (a wall beside the receiver)
+    // lands in one cell and spikes it (pooled error 0.81 against the uniform radiance's 0.29 on
+    // the glossy validation houses). So a node spanning more than half a cell is split into k×k
+    // sub-squares, its weight shared in proportion to their point formula, each binned at its
+    // own centre: the node's total stays its weight, so Σ_cells still gives E⁺ exactly.
+    const float side = std::sqrt(prior.area), cell_angle = 0.5f * float(k_pi) / float(resolution);
+    parallel_for(0, int64_t(start.size()) - 1, 16, [&](int64_t b, int64_t e) {
+        ReceiverView view(co);
+        std::vector<float> row(m);
+        std::vector<double> hist(size_t(cells) * 3);
+        std::vector<std::pair<int, float>> sub;   // (cell, point formula) of a near node's sub-squares
+        auto cell_of = [&](const Frame &frame, Vec3f d) {
+            Vec3f w = frame.to_local(d);
+            // A patch straddling the horizon can weigh in with its centre just below it: its share
+            // goes to the horizon's cell in that azimuth.
+            if (w.z < 0.f) w.z = 0.f;
+            const float len = length(w);
+            if (!(len > 0.f)) return -1;
+            const Vec2f u = cosine_hemisphere_to_square(w / len);
+            return int(u.x * float(resolution)) * resolution + int(u.y * float(resolution));
+        };
+        auto add = [&](int cell, double weight, Vec3f exitance) {
+            for (int c = 0; c < 3; ++c) hist[size_t(cell) * 3 + size_t(c)] += weight * double(exitance[c]);
+        };
+        auto splat = [&](Vec3f p, const Frame &frame, Vec3f pj, Vec3f nj, float weight, Vec3f exitance) {
+            const Vec3f d = pj - p;
+            const float dist = length(d);
+            const int k = std::min(16, int(std::ceil(side / (std::max(dist, 1e-30f) * cell_angle))));
+            if (k <= 1) {
+                const int cell = cell_of(frame, d);
+                if (cell >= 0) add(cell, double(weight), exitance);
+                return;
+            }
+            const Frame node(nj);
+            sub.clear();
+            double total = 0;
+            for (int a = 0; a < k; ++a)
+                for (int bb = 0; bb < k; ++bb) {
+                    const float u = ((float(a) + 0.5f) / float(k) - 0.5f) * side, v = ((float(bb) + 0.5f) / float(k) - 0.5f) * side;
+                    const Vec3f q = pj + node.s * u + node.t * v, dq = q - p;
+                    const float r2 = dot(dq, dq), cr = dot(frame.n, dq), cs = -dot(nj, dq);
+                    const float t = cr > 0.f && cs > 0.f ? cr * cs / (r2 * r2 + 1e-30f) : 0.f;
+                    const int cell = cell_of(frame, dq);
+                    if (cell < 0 || !(t > 0.f)) continue;
+                    sub.emplace_back(cell, t);
+                    total += double(t);
+                }
+            if (!(total > 0)) {   // every sub-square behind the receiver or the node: the centre's cell
+                const int cell = cell_of(frame, d);
+                if (cell >= 0) add(cell, double(weight), exitance);
+                return;
+            }
+            for (const auto &[cell, t] : sub) add(cell, double(weight) * double(t) / total, exitance);
+        };
+        for (int64_t run = b; run < e; ++run) {
+            const size_t q0 = start[size_t(run)], q1 = start[size_t(run) + 1];
+            const float *pp = position + q0 * stride, *pn = normal + q0 * stride;
+            const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
+            const Frame frame(nq);
+            view.set(vis, co, p, nq);
+            float *r = row.data();
+            nodes.row(view, p, nq, r);
+            // As gather_transport_prior: E⁺ = Σ_j r_j ex_j / Σ_j r_j, each term in its node's cell.
+            double den = 0;
+            std::fill(hist.begin(), hist.end(), 0.0);
+            for (const auto &[lo, hi] : view.runs)
+                for (size_t j = lo; j < hi; ++j) {
+                    if (!(r[j] > 0.f)) continue;
+                    den += double(r[j]);
+                    splat(p, frame, nodes.pos[j], nodes.nrm[j], r[j], ex[j]);
+                }
+            for (size_t q = q0; q < q1; ++q) {
+                const float *d = direction + q * direction_stride;
+                const int cell = cell_of(frame, Vec3f(d[0], d[1], d[2]));
+                float *o = out + q * 3;
+                if (!(den > 0) || cell < 0) {
+                    o[0] = o[1] = o[2] = 0.f;
+                    continue;
+                }
+                for (int c = 0; c < 3; ++c) o[c] = float(to_radiance * hist[size_t(cell) * 3 + size_t(c)] / den);
+            }
         }
     });
 }

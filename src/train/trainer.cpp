@@ -132,7 +132,7 @@ void Trainer::init_weights(const std::string &path) {
     if (m_cfg.head == "directional" && !w->directional) {
         // A new head on trained irradiance weights: it keeps its fresh (uniform-radiance) start.
         for (const auto &p : m_model->directional->named_parameters()) tensors["directional." + p.key()] = p.value().detach().clone();
-        log_info(path, ": no directional head; the head starts fresh (uniform L_in = prior / π)");
+        log_info(path, ": no directional head; the head starts fresh (L_in = its prior, radiance_scale)");
     }
     load_state(m_model, tensors, path);   // copy_ moves them to the training device
 }
@@ -364,8 +364,8 @@ torch::Tensor Trainer::directional_step_loss(CachedScene &sc, uint64_t u, int64_
     m_model->encoder->reseed(hash_keys({m_cfg.seed, 0x0dde5ull, u}) >> 1);
     const SceneLatents lat = latents(sc, scene_points, sym);
     const auto z = m_model->decode_radiance(queries, direction, lat);
-    // In the head's ratio frame: L_in / (scale / π), scale the irradiance head's prior at the point.
-    const auto scale = output_scale(queries, lat.norm) / k_pi;
+    // In the head's ratio frame: L_in / scale, scale its prior's radiance (radiance_scale).
+    const auto scale = radiance_scale(queries, direction, lat.norm, m_model_cfg.directional->prior_cells);
     return directional_loss(torch::expm1(z), normalized_target(rows_tensor(target, 3).to(m_device), scale), scale);
 }
 
@@ -397,9 +397,9 @@ double Trainer::validate_directional() {
         const auto direction = rows_tensor(hemi.direction, 3).to(m_device);
         const SceneLatents lat = latents(sc, sc.scene_points, 0);
         const auto z = m_model->decode_radiance(queries, direction, lat);
-        const auto scale = output_scale(queries, lat.norm);
+        const auto scale = radiance_scale(queries, direction, lat.norm, m_model_cfg.directional->prior_cells);
         const auto l_ref = rows_tensor(target, 3).to(m_device);
-        sum += directional_loss(torch::expm1(z), normalized_target(l_ref, scale / k_pi), scale / k_pi).item<double>();
+        sum += directional_loss(torch::expm1(z), normalized_target(l_ref, scale), scale).item<double>();
         const auto l_hat = radiance_from_z(z, scale);
         const int64_t np = pts.size(0);
         // Floor: a uniform radiance whose cosine integral is the reference's E_direct + E⁺.

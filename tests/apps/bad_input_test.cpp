@@ -12,6 +12,9 @@
 #include "ltm/scene/mesh_builder.h"
 #include "ltm/scene/scene_json.h"
 #include "test_util.h"
+#ifdef LTM_WITH_TORCH
+#include "ltm/nn/checkpoint.h"
+#endif
 
 using namespace ltm;
 
@@ -181,7 +184,11 @@ TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
 TEST(BadInput, DirectionalHeadMissingIsOneLine) {
     test::TempDir dir;
     save_scene_json(cornell_box(), dir.path("cb.json"));
-    const std::string weights = test::source_path("models/ltm-cpu.safetensors");   // irradiance only
+    // Irradiance-only weights (the shipped model carries a head since v0.11).
+    torch::manual_seed(1);
+    LtmModel irradiance(ModelConfig::from_file(test::source_path("configs/model/tiny.json")));
+    const std::string weights = dir.path("irradiance.safetensors");
+    save_weights(weights, irradiance);
     const size_t n = dir.count();
     expect_error(dir, n, {"render", dir.path("cb.json"), "--method", "guided", "--model", weights, "--spp", "1", "--width", "8",
                           "--height", "8", "-o", dir.path("g")},

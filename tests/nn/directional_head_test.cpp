@@ -7,6 +7,7 @@
 #include <torch/torch.h>
 
 #include "ltm/core/error.h"
+#include "ltm/core/sampling.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/ltm_model.h"
 #include "test_util.h"
@@ -137,4 +138,52 @@ TEST(DirectionalHead, DirectionsBelowTheSurfaceOrNotUnitAreErrors) {
     // Grazing directions (n·ω = 0) are in the hemisphere: finite.
     const auto grazing = f.directions(1e4);
     EXPECT_TRUE(torch::isfinite(m->predict_radiance(f.qp, grazing, lat)).all().item<bool>());
+}
+
+// With directional.prior_cells = R (and the transport prior) a fresh head predicts the prior's
+// radiance split over R×R cells: its cosine integral over a hemisphere's cell centres is the
+// irradiance prior, it is not uniform, and it keeps the exact symmetries.
+TEST(DirectionalHead, StartsAsTheDirectionalTransportPrior) {
+    Fixture f;
+    f.cfg.physics = ModelConfig::from_file(test::source_path("configs/model/cpu-tp.json")).physics;
+    const int R = 4;
+    f.cfg.directional->prior_cells = R;
+    const ModelConfig back = ModelConfig::from_json(f.cfg.to_json(), "t");
+    EXPECT_EQ(back.directional->prior_cells, R);
+    torch::manual_seed(1);
+    LtmModel m(f.cfg);
+    m->eval();
+    const SceneLatents lat = m->encode(f.sp, m->scene_geometry(f.sp));
+    // Every query's R² cell-centre directions, rows grouped by query (as hemisphere_rows).
+    const int64_t nq = f.qp.size(0);
+    std::vector<float> dirs;
+    for (int64_t i = 0; i < nq; ++i) {
+        const Frame frame(Vec3f(f.qp[i][3].item<float>(), f.qp[i][4].item<float>(), f.qp[i][5].item<float>()));
+        for (int b = 0; b < R * R; ++b) {
+            const Vec3f w = normalize(frame.to_world(sample_cosine_hemisphere({(float(b / R) + 0.5f) / R, (float(b % R) + 0.5f) / R})));
+            dirs.insert(dirs.end(), {w.x, w.y, w.z});
+        }
+    }
+    const auto q = f.qp.repeat_interleave(R * R, 0);
+    const auto d = torch::from_blob(dirs.data(), {nq * R * R, 3}, torch::kFloat32).clone();
+    const auto l = m->predict_radiance(q, d, lat);
+    const auto e = output_scale(f.qp, lat.norm);
+    const auto integral = l.view({nq, R * R, 3}).sum(1) * (k_pi / double(R * R));
+    // Cells the prior leaves dark are floored (10⁻³ of the scene's scale): compare where it is lit.
+    const auto lit = (e > 0.01 * e.mean()).all(1);
+    ASSERT_GT(lit.sum().item<int64_t>(), nq / 2);
+    EXPECT_TRUE(torch::allclose(integral.index({lit}), e.index({lit}), 2e-3, 1e-6));
+    const auto per_query = l.view({nq, R * R, 3});
+    EXPECT_GT((per_query - per_query.mean(1, true)).abs().mean().item<double>(), 0.1 * per_query.abs().mean().item<double>())
+        << "the directional prior is not the uniform one";
+    // Exact symmetries: emission ×k, the unit of length.
+    auto predict = [&](const torch::Tensor &sp, const torch::Tensor &qp) { return m->predict_radiance(qp, d, m->encode(sp, m->scene_geometry(sp))); };
+    EXPECT_TRUE(torch::equal(predict(scaled(f.sp, 9, 12, 4.0), q), l * 4.0));
+    EXPECT_TRUE(torch::allclose(predict(scaled(f.sp, 0, 3, 8.0), scaled(q, 0, 3, 8.0)), l, 1e-4, 1e-7));
+    // Only the transport prior has directions to split.
+    Json j = f.cfg.to_json();
+    j["physics"]["prior_field"] = "flat";
+    j["physics"].erase("prior_visibility"), j["physics"].erase("prior_discs"), j["physics"].erase("prior_balance");
+    j["physics"].erase("prior_blend"), j["physics"].erase("prior_patches"), j["physics"].erase("prior_nodes");
+    EXPECT_THROW(ModelConfig::from_json(j, "t"), Error);
 }

@@ -5,6 +5,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
+#include "ltm/core/sampling.h"
 #include "ltm/points/patch_form_factor.h"
 #include "ltm/points/transport_prior.h"
 #include "point_rooms.h"
@@ -146,4 +147,76 @@ TEST(TransportPrior, PatchesGiveTheNearFieldOfAConcaveEdge) {
             EXPECT_NEAR(e_point, exact, 0.01) << "far from the edge the point formula holds";
         }
     }
+}
+
+namespace {
+// The prior's L⁺ over the R×R cell centres of each receiver's hemisphere (rows grouped by
+// receiver, cells in order): [receivers × R² × 3].
+std::vector<float> radiance_cells(const TransportPrior &t, const std::vector<Vec3f> &p, const std::vector<Vec3f> &n, int R,
+                                  std::vector<Vec3f> *dirs = nullptr) {
+    std::vector<float> pos, nrm, dir;
+    for (size_t i = 0; i < p.size(); ++i) {
+        const Frame frame(n[i]);
+        for (int b = 0; b < R * R; ++b) {
+            const Vec2f u{(float(b / R) + 0.5f) / float(R), (float(b % R) + 0.5f) / float(R)};
+            const Vec3f w = normalize(frame.to_world(sample_cosine_hemisphere(u)));
+            for (int c = 0; c < 3; ++c) pos.push_back(p[i][c]), nrm.push_back(n[i][c]), dir.push_back(w[c]);
+            if (dirs) dirs->push_back(w);
+        }
+    }
+    std::vector<float> out(pos.size());
+    gather_transport_prior_radiance(t, pos.data(), nrm.data(), 3, dir.data(), 3, pos.size() / 3, R, out.data());
+    return out;
+}
+}  // namespace
+
+// L⁺ splits E⁺ by direction: its cosine integral over the cells is E⁺ exactly, light comes from
+// where the lit wall is and from nowhere else, and a cell the wall fills holds its radiance 1/π.
+TEST(TransportPrior, RadianceCellsSplitTheIrradianceByDirection) {
+    const Nodes c = cube(12, 1.f, [](int) { return Vec3f(0.5f); }, [](int) { return Vec3f(0.f); });
+    TransportPrior t = solve_transport_prior(c.p, c.n, c.rho, c.le, c.area, 1, {}, PriorBalance::per_channel, true);
+    for (size_t j = 0; j < c.p.size(); ++j) t.exitance[j] = Vec3f(c.n[j].x > 0.5f ? 1.f : 0.f, 0.5f, 0.f);   // R: the wall x = 0
+    const std::vector<Vec3f> p = {{0.05f, 0.f, 0.5f}, {0.5f, 0.f, 0.5f}, {0.9f, 0.f, 0.3f}, {0.4f, 0.6f, 1.f}};
+    const std::vector<Vec3f> n = {{0.f, 1.f, 0.f}, {0.f, 1.f, 0.f}, {0.f, 1.f, 0.f}, {0.f, 0.f, -1.f}};
+    const auto e = gather(t, p, n);
+    for (int R : {1, 4, 8, 16}) {
+        std::vector<Vec3f> dirs;
+        const auto l = radiance_cells(t, p, n, R, &dirs);
+        for (size_t i = 0; i < p.size(); ++i)
+            for (int ch = 0; ch < 3; ++ch) {
+                double sum = 0;
+                for (int b = 0; b < R * R; ++b) sum += double(l[(i * size_t(R * R) + size_t(b)) * 3 + size_t(ch)]);
+                EXPECT_NEAR(k_pi / double(R * R) * sum, double(e[i * 3 + size_t(ch)]), 1e-5 * (1.0 + double(e[i * 3 + size_t(ch)])))
+                    << "R " << R << " receiver " << i << " channel " << ch;
+                if (R == 1) EXPECT_NEAR(l[i * 3 + size_t(ch)], e[i * 3 + size_t(ch)] / k_pi, 1e-6) << "one cell: uniform";
+            }
+        if (R != 8) continue;
+        // Receiver 1, mid-floor: toward +x (away from the wall) the red channel is 0; toward the
+        // wall (d.x < −0.8: cells wholly on it) it is the wall's radiance 1/π; green comes from all sides.
+        double toward = 0;
+        int n_toward = 0;
+        for (int b = 0; b < 64; ++b) {
+            const Vec3f d = dirs[64 + size_t(b)];
+            const float red = l[(64 + size_t(b)) * 3], green = l[(64 + size_t(b)) * 3 + 1];
+            if (d.x > 0.3f) EXPECT_EQ(red, 0.f) << "cell " << b;
+            if (d.x < -0.8f) toward += red, ++n_toward;
+            EXPECT_GT(green, 0.f) << "cell " << b;
+        }
+        ASSERT_GT(n_toward, 0);
+        EXPECT_NEAR(toward / n_toward, 1.0 / k_pi, 0.2 / k_pi);
+    }
+    // Rows one at a time, and at 1 or 2 threads: the same bits as the grouped rows.
+    const auto grouped = radiance_cells(t, p, n, 8);
+    for (size_t i = 0; i < p.size(); ++i) {
+        const auto single = radiance_cells(t, {p[i]}, {n[i]}, 8);
+        for (size_t k = 0; k < single.size(); ++k) ASSERT_EQ(single[k], grouped[i * 64 * 3 + k]) << i << " " << k;
+    }
+    const int threads = num_threads();
+    set_num_threads(1);
+    const auto one = radiance_cells(t, p, n, 8);
+    set_num_threads(threads);
+    EXPECT_EQ(one, grouped);
+    float dummy[3];
+    EXPECT_THROW(gather_transport_prior_radiance(t, &p[0].x, &n[0].x, 3, &p[0].x, 3, 1, 0, dummy), Error);
+    EXPECT_THROW(gather_transport_prior_radiance(t, &p[0].x, &n[0].x, 3, &p[0].x, 2, 1, 4, dummy), Error);
 }

@@ -13,6 +13,10 @@ namespace ltm {
 /// Malley's method over Shirley's concentric disk map, which keeps strata compact.
 Vec3f sample_cosine_hemisphere(Vec2f u);
 inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(cos_theta, 0.f) * k_inv_pi; }
+/// Inverse of sample_cosine_hemisphere: the point of [0, 1)² that maps to local direction w
+/// (z ≥ 0; only w.x, w.y are read). Both maps preserve measure, so equal cells of the square are
+/// equal projected solid angles of the hemisphere (render/hemisphere_bins.h).
+Vec2f cosine_hemisphere_to_square(Vec3f w);
 
 /// Concentric map of the unit square to the unit disk (Shirley & Chiu 1997).
 Vec2f sample_concentric_disk(Vec2f u);

@@ -19,6 +19,9 @@ struct DirectionalEvalOptions {
     int points_per_record = 16;   ///< hemispheres per record, spread evenly over its rows
     int l_max = 8;                ///< SH degrees 0..l_max are fitted
     int tiles = 4;                ///< points drawn as tiles (reference | head | SH 2 | SH l_max)
+    /// R of the directional transport prior's row (radiance_scale with R×R cells; 0 = no row;
+    /// needs a model with the transport prior).
+    int prior_cells = 8;
 };
 
 /// Errors are relative: Σ(x − L)² / Σ L² over every bin of every evaluated point.
@@ -29,6 +32,9 @@ struct DirectionalEvalResult {
     /// A uniform radiance with the irradiance head's Ê (its prior when the decoder is zeroed): the
     /// directional head's own start, so head < this means it learned where the light comes from.
     double uniform_model = 0;
+    /// The directional transport prior alone (prior_cells × prior_cells cells; -1 when not evaluated).
+    double prior = -1;
+    int prior_cells = 0;
     std::vector<double> sh;              ///< [l_max + 1] best SH fit of degree l
     /// Points where the head's error is below the SH fit's, per degree (out of `points`).
     std::vector<int> head_beats_sh;

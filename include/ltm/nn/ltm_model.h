@@ -115,7 +115,14 @@ TORCH_MODULE(LtmModel);
 /// "transport" prior its value at each query, floored at 10⁻³ · norm.output (a query that faces
 /// no anchor keeps a finite frame).   query_points [N, 9] raw -> [3] or [N, 3]
 torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormalization &norm);
-/// L_in from the directional head's output: scale / π · expm1(z).   z [N, 3], scale [3] or [N, 3] -> [N, 3]
+/// What the directional head's output is relative to at (query, direction) rows: with cells = 0
+/// the uniform radiance output_scale / π; with cells = R > 0 (and a transport prior) the prior's
+/// radiance in the direction's cell (gather_transport_prior_radiance), floored at
+/// 10⁻³ · norm.output / π like output_scale.   query_points [N, 9] raw, direction [N, 3] -> [3] or [N, 3]
+torch::Tensor radiance_scale(const torch::Tensor &query_points, const torch::Tensor &direction, const SceneNormalization &norm,
+                             int cells);
+/// L_in from the directional head's output: scale · expm1(z), scale = radiance_scale().
+///   z [N, 3], scale [3] or [N, 3] -> [N, 3]
 torch::Tensor radiance_from_z(const torch::Tensor &z, const torch::Tensor &scale);
 /// E⁺ from the decoder's output: scale · expm1(z).   z [N, 3], scale [3] or [N, 3] -> [N, 3]
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale);

@@ -60,6 +60,11 @@ struct DirectionalConfig {
     /// in the renderer, as for diffuse surfaces; ∫ L_in⁺ cos dω = E⁺) or "incident" L_in (the
     /// paper's, emitters included). Training records must hold the same (data preset bin_radiance).
     std::string radiance = "indirect";
+    /// What the head's output is relative to: 0, the uniform radiance Ê_prior/π of the irradiance
+    /// prior; R > 0, the directional transport prior (physics.prior_field "transport" only): the
+    /// prior's gather split over R×R cells of equal projected solid angle
+    /// (gather_transport_prior_radiance), so a fresh head already knows where bright surfaces lie.
+    int prior_cells = 0;
     /// The JSON keys (core/config_fields.h).
     static const ConfigFields<DirectionalConfig> &fields();
     /// Width of the head's input: the query's 9 columns (position zeroed when translation
