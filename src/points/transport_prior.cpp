@@ -467,13 +467,29 @@ void gather_transport_prior_radiance(const TransportPrior &prior, const float *p
                 }
             for (size_t q = q0; q < q1; ++q) {
                 const float *d = direction + q * direction_stride;
-                const int cell = cell_of(frame, Vec3f(d[0], d[1], d[2]));
+                Vec3f w = frame.to_local(Vec3f(d[0], d[1], d[2]));
+                if (w.z < 0.f) w.z = 0.f;
+                const float len = length(w);
                 float *o = out + q * 3;
-                if (!(den > 0) || cell < 0) {
+                if (!(den > 0) || !(len > 0.f)) {
                     o[0] = o[1] = o[2] = 0.f;
                     continue;
                 }
-                for (int c = 0; c < 3; ++c) o[c] = float(to_radiance * hist[size_t(cell) * 3 + size_t(c)] / den);
+                // Bilinear between the cells' centres on the square (continuous on the hemisphere:
+                // the concentric map is), so a GGX lobe that samples it sees no cell edges; at a
+                // cell's centre it is the cell's value.
+                const Vec2f u = cosine_hemisphere_to_square(w / len);
+                const float x = u.x * float(resolution) - 0.5f, y = u.y * float(resolution) - 0.5f;
+                const int x0 = std::clamp(int(std::floor(x)), 0, resolution - 1), y0 = std::clamp(int(std::floor(y)), 0, resolution - 1);
+                const int x1 = std::min(x0 + 1, resolution - 1), y1 = std::min(y0 + 1, resolution - 1);
+                const float fx = std::clamp(x - float(x0), 0.f, 1.f), fy = std::clamp(y - float(y0), 0.f, 1.f);
+                const int cs[4] = {x0 * resolution + y0, x1 * resolution + y0, x0 * resolution + y1, x1 * resolution + y1};
+                const float ws[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+                for (int c = 0; c < 3; ++c) {
+                    double v = 0;
+                    for (int k = 0; k < 4; ++k) v += double(ws[k]) * hist[size_t(cs[k]) * 3 + size_t(c)];
+                    o[c] = float(to_radiance * v / den);
+                }
             }
         }
     });
