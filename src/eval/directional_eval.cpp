@@ -34,6 +34,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     const int R = dc.bin_resolution, nb = R * R;
     const BinShFit sh(R, opt.l_max);
     const bool indirect = dc.radiance == "indirect";
+    const bool with_prior = opt.prior_cells > 0 && model->cfg.physics.prior_field == "transport";
     DirectionalEvalResult res;
     res.resolution = R, res.radiance = dc.radiance;
     res.sh.assign(size_t(opt.l_max + 1), 0.0);
@@ -60,7 +61,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
         const auto e_hat = model->predict_irradiance(rows_tensor(qp, 9), lat).contiguous();
         const Vec3f *head = reinterpret_cast<const Vec3f *>(pred.data_ptr<float>());
         torch::Tensor prior_l;   // the directional transport prior's bins, [P·R², 3]
-        if (opt.prior_cells > 0 && lat.norm.transport)
+        if (with_prior)
             prior_l = radiance_scale(rows_tensor(hemi.query, 9), rows_tensor(hemi.direction, 3), lat.norm, opt.prior_cells).contiguous();
         for (int64_t j = 0; j < np; ++j) {
             const size_t q = size_t(pts[size_t(j)]);
@@ -79,7 +80,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
             res.head += eh;
             res.uniform += sq_err(uniform.data(), ref.data(), size_t(nb));
             res.uniform_model += sq_err(uniform_model.data(), ref.data(), size_t(nb));
-            if (prior_l.defined()) prior_err += sq_err(reinterpret_cast<const Vec3f *>(prior_l.data_ptr<float>()) + size_t(j) * size_t(nb), ref.data(), size_t(nb));
+            if (with_prior) prior_err += sq_err(reinterpret_cast<const Vec3f *>(prior_l.data_ptr<float>()) + size_t(j) * size_t(nb), ref.data(), size_t(nb));
             std::vector<std::vector<Vec3f>> fits;
             for (int l = 0; l <= opt.l_max; ++l) {
                 fits.push_back(sh.fit(ref, l));
@@ -104,7 +105,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     }
     const double norm = ref2 > 0 ? ref2 : 1.0;
     res.head /= norm, res.uniform /= norm, res.uniform_model /= norm;
-    if (opt.prior_cells > 0 && model->cfg.physics.prior_field == "transport") res.prior = prior_err / norm, res.prior_cells = opt.prior_cells;
+    if (with_prior) res.prior = prior_err / norm, res.prior_cells = opt.prior_cells;
     for (double &e : res.sh) e /= norm;
     res.hemisphere_gap_vs_model = gap_m / std::max(e_model_sum, 1e-30);
     res.hemisphere_gap_vs_ref = gap_r / std::max(e_ref_sum, 1e-30);

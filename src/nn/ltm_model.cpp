@@ -45,8 +45,8 @@ torch::Tensor ordered_mean(const torch::Tensor &t) {
     const double *v = c.data_ptr<double>();
     for (int64_t i = 0; i < rows; ++i)
         for (int64_t j = 0; j < cols; ++j) sum[size_t(j)] += v[i * cols + j];
-    auto out = torch::empty({cols}, torch::kFloat64);
-    for (int64_t j = 0; j < cols; ++j) out[j] = sum[size_t(j)] / double(rows);
+    for (double &x : sum) x /= double(rows);
+    auto out = torch::tensor(sum, torch::kFloat64);
     if (t.dim() == 1) out = out.squeeze(0);
     return out.to(t.options());
 }

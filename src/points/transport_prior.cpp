@@ -405,14 +405,20 @@ void gather_transport_prior_radiance(const TransportPrior &prior, const float *p
         std::vector<float> row(m);
         std::vector<double> hist(size_t(cells) * 3);
         std::vector<std::pair<int, float>> sub;   // (cell, point formula) of a near node's sub-squares
-        auto cell_of = [&](const Frame &frame, Vec3f d) {
+        // World direction d -> its point of the unit square in `frame` (false for d = 0). A
+        // direction just below the horizon (a patch straddling it, weighing in with its centre
+        // below) maps to the horizon in that azimuth.
+        auto to_square = [](const Frame &frame, Vec3f d, Vec2f &u) {
             Vec3f w = frame.to_local(d);
-            // A patch straddling the horizon can weigh in with its centre just below it: its share
-            // goes to the horizon's cell in that azimuth.
             if (w.z < 0.f) w.z = 0.f;
             const float len = length(w);
-            if (!(len > 0.f)) return -1;
-            const Vec2f u = cosine_hemisphere_to_square(w / len);
+            if (!(len > 0.f)) return false;
+            u = cosine_hemisphere_to_square(w / len);
+            return true;
+        };
+        auto cell_of = [&](const Frame &frame, Vec3f d) {
+            Vec2f u;
+            if (!to_square(frame, d, u)) return -1;
             return int(u.x * float(resolution)) * resolution + int(u.y * float(resolution));
         };
         auto add = [&](int cell, double weight, Vec3f exitance) {
@@ -420,20 +426,19 @@ void gather_transport_prior_radiance(const TransportPrior &prior, const float *p
         };
         auto splat = [&](Vec3f p, const Frame &frame, Vec3f pj, Vec3f nj, float weight, Vec3f exitance) {
             const Vec3f d = pj - p;
-            const float dist = length(d);
-            const int k = std::min(16, int(std::ceil(side / (std::max(dist, 1e-30f) * cell_angle))));
-            if (k <= 1) {
+            auto at_centre = [&] {
                 const int cell = cell_of(frame, d);
                 if (cell >= 0) add(cell, double(weight), exitance);
-                return;
-            }
+            };
+            const int k = std::min(16, int(std::ceil(side / (std::max(length(d), 1e-30f) * cell_angle))));
+            if (k <= 1) return at_centre();   // most nodes: far enough to fit in a cell
             const Frame node(nj);
             sub.clear();
             double total = 0;
             for (int a = 0; a < k; ++a)
                 for (int bb = 0; bb < k; ++bb) {
                     const float u = ((float(a) + 0.5f) / float(k) - 0.5f) * side, v = ((float(bb) + 0.5f) / float(k) - 0.5f) * side;
-                    const Vec3f q = pj + node.s * u + node.t * v, dq = q - p;
+                    const Vec3f dq = pj + node.s * u + node.t * v - p;
                     const float r2 = dot(dq, dq), cr = dot(frame.n, dq), cs = -dot(nj, dq);
                     const float t = cr > 0.f && cs > 0.f ? cr * cs / (r2 * r2 + 1e-30f) : 0.f;
                     const int cell = cell_of(frame, dq);
@@ -441,11 +446,7 @@ void gather_transport_prior_radiance(const TransportPrior &prior, const float *p
                     sub.emplace_back(cell, t);
                     total += double(t);
                 }
-            if (!(total > 0)) {   // every sub-square behind the receiver or the node: the centre's cell
-                const int cell = cell_of(frame, d);
-                if (cell >= 0) add(cell, double(weight), exitance);
-                return;
-            }
+            if (!(total > 0)) return at_centre();   // every sub-square behind the receiver or the node
             for (const auto &[cell, t] : sub) add(cell, double(weight) * double(t) / total, exitance);
         };
         for (int64_t run = b; run < e; ++run) {
@@ -467,18 +468,15 @@ void gather_transport_prior_radiance(const TransportPrior &prior, const float *p
                 }
             for (size_t q = q0; q < q1; ++q) {
                 const float *d = direction + q * direction_stride;
-                Vec3f w = frame.to_local(Vec3f(d[0], d[1], d[2]));
-                if (w.z < 0.f) w.z = 0.f;
-                const float len = length(w);
                 float *o = out + q * 3;
-                if (!(den > 0) || !(len > 0.f)) {
+                Vec2f u;
+                if (!(den > 0) || !to_square(frame, Vec3f(d[0], d[1], d[2]), u)) {
                     o[0] = o[1] = o[2] = 0.f;
                     continue;
                 }
                 // Bilinear between the cells' centres on the square (continuous on the hemisphere:
                 // the concentric map is), so a GGX lobe that samples it sees no cell edges; at a
                 // cell's centre it is the cell's value.
-                const Vec2f u = cosine_hemisphere_to_square(w / len);
                 const float x = u.x * float(resolution) - 0.5f, y = u.y * float(resolution) - 0.5f;
                 const int x0 = std::clamp(int(std::floor(x)), 0, resolution - 1), y0 = std::clamp(int(std::floor(y)), 0, resolution - 1);
                 const int x1 = std::min(x0 + 1, resolution - 1), y1 = std::min(y0 + 1, resolution - 1);

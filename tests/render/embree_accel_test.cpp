@@ -8,7 +8,7 @@
 #include "ltm/render/brute_accel.h"
 #include "ltm/render/embree_accel.h"
 #include "ltm/scene/builtin_scenes.h"
-#include "ltm/scene/mesh_builder.h"
+#include "box_scenes.h"
 
 using namespace ltm;
 
@@ -95,13 +95,7 @@ TEST(EmbreeAccel, ConstructorThatThrowsReleasesWhatItMade) {
 // Two boxes stacked in the unit furnace box: box A's top and box B's bottom coincide at y = 0.5.
 // hits() lists every face a ray crosses, the coincident pair included, sorted by t, then mesh.
 TEST(EmbreeAccel, HitsListsEveryFaceInTheIntervalCoincidentOnesToo) {
-    Scene s = furnace_box(0.5f, 1.f);
-    TriangleMesh a, b;
-    a.name = "a", b.name = "b";
-    a.material = b.material = s.meshes[0].material;
-    add_box(a, {0.25f, 0.f, 0.25f}, {0.75f, 0.5f, 0.75f});
-    add_box(b, {0.25f, 0.5f, 0.25f}, {0.75f, 0.75f, 0.75f});
-    s.meshes.push_back(a), s.meshes.push_back(b);
+    const Scene s = test::furnace_with_boxes({{{0.25f, 0.f, 0.25f}, {0.75f, 0.5f, 0.75f}}, {{0.25f, 0.5f, 0.25f}, {0.75f, 0.75f, 0.75f}}});
     const EmbreeAccel accel(s);
     const Ray up{{0.4f, 0.3f, 0.6f}, {0.f, 1.f, 0.f}};
     const std::vector<Hit> all = accel.hits(up);

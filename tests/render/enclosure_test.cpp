@@ -12,8 +12,8 @@
 #include "ltm/render/enclosure.h"
 #include "ltm/render/scene_points.h"
 #include "ltm/scene/builtin_scenes.h"
-#include "ltm/scene/mesh_builder.h"
 #include "ltm/scene/scene_transform.h"
+#include "box_scenes.h"
 
 using namespace ltm;
 
@@ -128,14 +128,8 @@ TEST(Enclosure, AFloorUnderStackedBoxesIsEnclosedInAnyUnitAndMeshOrder) {
     // under A first meet that pair; whichever of the two the query returns, the verdict holds.
     for (bool b_first : {false, true})
         for (float f : {0.01f, 0.1f, 1.f, 10.f, 1000.f}) {
-            Scene s = furnace_box(0.5f, 1.f);
-            TriangleMesh a, b;
-            a.name = "a", b.name = "b";
-            a.material = b.material = s.meshes[0].material;
-            add_box(a, {0.25f, 0.f, 0.25f}, {0.75f, 0.5f, 0.75f});
-            add_box(b, {0.2f, 0.5f, 0.2f}, {0.8f, 0.9f, 0.8f});
-            if (b_first) s.meshes.push_back(b), s.meshes.push_back(a);
-            else s.meshes.push_back(a), s.meshes.push_back(b);
+            const test::Box a{{0.25f, 0.f, 0.25f}, {0.75f, 0.5f, 0.75f}}, b{{0.2f, 0.5f, 0.2f}, {0.8f, 0.9f, 0.8f}};
+            Scene s = b_first ? test::furnace_with_boxes({b, a}) : test::furnace_with_boxes({a, b});
             scale_lengths(s, f);
             const EmbreeAccel accel(s);
             EnclosureTest cfg;

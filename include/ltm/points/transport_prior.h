@@ -89,9 +89,9 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
 /// node lies as seen from the receiver. The nodes' shares Ĝ_j(p, n)·ex_j fall into R×R cells of
 /// equal projected solid angle π/R² (the concentric cosine map of core/sampling.h, in Frame(n));
 /// a row reads L̂ = (R²/π)·E_cell bilinearly between the cells' centres on the square, so at the
-/// cells' centres (π/R²)·Σ L̂ = E⁺ exactly. Near nodes are split over the cells they span. Consecutive rows with the same receiver (a
-/// hemisphere's bins, a pixel's GGX samples) share one histogram, so a hemisphere costs one
-/// gather. position, normal: float arrays with row stride `stride`; direction: world space, unit,
+/// cells' centres (π/R²)·Σ L̂ = E⁺ exactly. Near nodes are split over the cells they span.
+/// Consecutive rows with the same receiver (a hemisphere's bins, a pixel's GGX samples) share one
+/// histogram, so a hemisphere costs one gather. position, normal: float arrays with row stride `stride`; direction: world space, unit,
 /// on the normal's side, row stride `direction_stride`; out [n, 3] contiguous. resolution R in [1, 64].
 /// Deterministic at any thread count.
 void gather_transport_prior_radiance(const TransportPrior &prior, const float *position, const float *normal, size_t stride,

@@ -19,8 +19,9 @@ struct EnclosureTest {
 /// True if at least `back_face_fraction` of the rays leaving (p, n) first hit the back side of a
 /// surface, i.e. the point sits inside a closed, outward-facing solid. A first hit on a front face
 /// that coincides with a back face (within the rays' offset) counts as back, so coincident faces
-/// vote the same whichever of them float rounding puts first. Deterministic (fixed directions). Limitation: a face pressed against the floor from above (a carpet's underside)
-/// looks into the space behind the floor, which has no surfaces, so it is not detected.
+/// vote the same whichever of them float rounding puts first. Deterministic (fixed directions).
+/// Limitation: a face pressed against the floor from above (a carpet's underside) looks into the
+/// space behind the floor, which has no surfaces, so it is not detected.
 bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest &cfg = {});
 
 /// A SampleFilter for sample_surface() that rejects enclosed samples (cfg.offset_length is replaced
