@@ -1,7 +1,7 @@
 // guided_error.cpp: error against a reference vs samples per pixel for BSDF-sampled and guided
 // path tracing (issue #11 item 5, paper Fig. 13), at equal spp and at equal time (the guide's
 // prediction counted). The figures in docs/results.md come from:
-//   build/bench/guided_error SCENE.json WEIGHTS.safetensors [ref_spp=512] [size=128] [guide_points=256] [guide_res=16]
+//   build/bench/guided_error SCENE.json WEIGHTS.safetensors [ref_spp=512] [size=128] [guide_points=256] [guide_res=16] [oracle_emission=0]
 // MSE and relMSE as `ltm eval` computes them (eval/metrics.h: tone-mapped with the reference's scale).
 #include <cstdio>
 #include <cstdlib>
@@ -20,7 +20,7 @@ using namespace ltm;
 
 int main(int argc, char **argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: %s SCENE.json WEIGHTS.safetensors [ref_spp] [size] [guide_points]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s SCENE.json WEIGHTS.safetensors [ref_spp] [size] [guide_points] [guide_res] [oracle_emission]\n", argv[0]);
         return 1;
     }
     configure_process();
@@ -28,6 +28,8 @@ int main(int argc, char **argv) {
     set_log_level(LogLevel::quiet);
     const int ref_spp = argc > 3 ? std::atoi(argv[3]) : 512, size = argc > 4 ? std::atoi(argv[4]) : 128;
     const int guide_points = argc > 5 ? std::atoi(argv[5]) : 256, guide_res = argc > 6 ? std::atoi(argv[6]) : 16;
+    // oracle_emission = 1: the oracle's bins include the emitters seen directly (L_in, not L_in⁺).
+    const bool oracle_emission = argc > 7 && std::atoi(argv[7]) != 0;
     try {
         const Scene scene = load_scene(argv[1]);
         Camera cam = scene.cameras.at(0);
@@ -50,7 +52,7 @@ int main(int argc, char **argv) {
             const auto &P = guide.cache.positions();
             const auto &N = guide.cache.normals();
             for (size_t c = 0; c < P.size(); ++c) {
-                const auto b = opt_pt.incident_radiance_bins(P[c], N[c], c, guide_res, 16, /*with_emission=*/false);
+                const auto b = opt_pt.incident_radiance_bins(P[c], N[c], c, guide_res, 16, /*with_emission=*/oracle_emission);
                 oracle_bins.insert(oracle_bins.end(), b.begin(), b.end());
             }
         }

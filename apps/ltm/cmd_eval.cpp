@@ -58,7 +58,8 @@ void declare(CLI::App &sub, EvalArgs &a) {
         ->capture_default_str()
         ->check(CLI::Range(1, 1 << 20));
     sub.add_flag("--radiance", a.radiance,
-                 "Also compare the rendered images (direct + GI; conductors through the directional head) with path "
+                 "Also compare the rendered images (direct + GI; conductors by one traced bounce, and through the "
+                 "directional head where the model has one) with path "
                  "tracing, over all pixels and over conductor pixels: radiance.json, radiance.md, radiance_*.png");
     sub.add_option("--direct-spp", a.direct_spp, "--radiance: the neural render's light samples per pixel")
         ->capture_default_str()

@@ -19,7 +19,7 @@ namespace ltm::cli {
 
 namespace {
 struct RenderArgs {
-    std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto";
+    std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto", glossy = "auto";
     int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024, guide_resolution = 16, glossy_samples = 16;
     float exposure = 1.f, guide_alpha = 0.25f;
 };
@@ -36,8 +36,12 @@ void declare(CLI::App &sub, RenderArgs &a) {
         ->check(CLI::IsMember({"pathtrace", "neural", "guided"}));
     sub.add_option("--model", a.model, "Weights for --method neural (models/ltm-cpu.safetensors) or guided (with a directional head)");
     sub.add_option("--spp", a.spp, "Samples per pixel (pathtrace, guided)")->capture_default_str();
-    sub.add_option("--glossy-samples", a.glossy_samples,
-                   "GGX samples per conductor pixel, each the directional head's L_in⁺ (neural, with a directional head)")
+    sub.add_option("--glossy", a.glossy,
+                   "Conductor pixels (neural): trace = one traced bounce into the model's E+ (auto), head = the "
+                   "directional head's L_in+ (paper Fig. 11), diffuse = shaded as diffuse")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "trace", "head", "diffuse"}));
+    sub.add_option("--glossy-samples", a.glossy_samples, "GGX samples per conductor pixel (neural; --glossy trace or head)")
         ->capture_default_str()
         ->check(CLI::Range(1, 4096));
     sub.add_option("--guide-points", a.guide_points, "Surface points whose L_in bins the head predicts (guided)")
@@ -77,7 +81,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
         if (a.direct_spp <= 0) LTM_THROW("--direct-spp ", a.direct_spp, ": must be > 0");
         run_neural_render(
             {a.scene, a.camera, a.model, prefix, a.width, a.height, a.direct_spp, a.exposure, true, a.gi_stride,
-             a.direct_estimator, a.glossy_samples},
+             a.direct_estimator, a.glossy_samples, a.glossy},
             common);
         return;
     #else

@@ -12,6 +12,9 @@ namespace ltm::cli {
 
 void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     LoadedModel m = load_model(a.model);
+    const GlossyShading glossy = parse_glossy_shading(a.glossy);
+    if (glossy == GlossyShading::head && !m.model->directional)
+        LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");
     const Scene scene = load_scene(a.scene);
     for (const auto &w : scene_range_warnings(scene, m.model->cfg.physics.length_scale)) log_warn(a.scene, ": ", w);
     const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);
@@ -25,12 +28,13 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     opt.seed = common.seed, opt.exclude_enclosed = a.exclude_enclosed;
     opt.gi.stride = a.gi_stride;
     opt.glossy_samples = a.glossy_samples;
+    opt.glossy = glossy;
     const NeuralRender r = render_neural(m.model, pt, cam, opt);
-    if (r.n_conductor > 0 && !r.glossy_from_head)
-        log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (the model has no directional head)");
-    if (r.glossy_from_head)
-        log_info(r.n_conductor, " conductor pixels shaded with the directional head (", a.glossy_samples, " GGX samples each) in ",
-                 format_duration(r.timings.glossy));
+    if (r.n_conductor > 0 && r.glossy == GlossyShading::diffuse)
+        log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (--glossy diffuse)");
+    else if (r.n_conductor > 0)
+        log_info(r.n_conductor, " conductor pixels shaded by ", r.glossy == GlossyShading::head ? "the directional head" : "one traced bounce",
+                 " (", a.glossy_samples, " GGX samples each) in ", format_duration(r.timings.glossy));
     write_rendered_image(r.image, a.prefix, a.exposure);
     write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
     const auto &t = r.timings;
@@ -45,7 +49,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"direct_spp", a.direct_spp},
                      {"direct_estimator", direct_estimator_name(r.direct)},
                      {"conductor_pixels", r.n_conductor},
-                     {"glossy_from_head", r.glossy_from_head},
+                     {"glossy", glossy_shading_name(r.glossy)},
                      {"threads", common.threads},
                      {"timings", t.to_json()}};
     write_file_atomic(a.prefix + ".timings.json", j.dump(2) + "\n");

@@ -1,4 +1,4 @@
-// radiance_eval.cpp: rendered images (direct + GI, conductors through the directional head)
+// radiance_eval.cpp: rendered images (direct + GI; conductors by a traced bounce, the directional head, or as diffuse)
 // against path tracing; see radiance_eval.h.
 #include "ltm/eval/radiance_eval.h"
 
@@ -78,21 +78,24 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
             for (size_t mi = 0; mi < models.size(); ++mi) {
                 NeuralRenderOptions no;
                 no.direct_spp = opt.direct_spp, no.seed = o.seed, no.exclude_enclosed = o.exclude_enclosed;
-                no.glossy_samples = opt.glossy_samples;
-                const NeuralRender with_head = render_neural(models[mi].model, pt_neural, cam, no);
-                add("model:" + models[mi].name, with_head.image.color, with_head.timings.total, 0);
-                if (mi == 0) first_model_seconds = with_head.timings.total, first_model = with_head.image.color;
-                if (mi == 0) tiles.push_back(with_head.image.color);
+                no.glossy_samples = opt.glossy_samples, no.glossy = GlossyShading::trace;
+                const NeuralRender traced = render_neural(models[mi].model, pt_neural, cam, no);
+                add("model:" + models[mi].name, traced.image.color, traced.timings.total, 0);
+                if (mi == 0) first_model_seconds = traced.timings.total, first_model = traced.image.color;
+                if (mi == 0) tiles.push_back(traced.image.color);
                 if (models[mi].model->directional) {
-                    // Conductors as diffuse: what an irradiance-only model gives, composed from the
-                    // same render's E_direct and Ê⁺ (its AOVs), so it costs the render less the
-                    // head's time; the same image where the view shows no conductor, so both rows
-                    // cover the same views.
-                    const Image diffuse = compose_image(gb, with_head.image.direct, with_head.image.irradiance).color;
-                    add("model:" + models[mi].name + "/diffuse-conductors", diffuse,
-                        with_head.timings.total - with_head.timings.glossy, 0);
-                    if (mi == 0) tiles.push_back(diffuse);
+                    // Conductors through the directional head (paper Fig. 11): the same render but
+                    // for L⁺ along the GGX samples; the same image where the view shows no conductor.
+                    no.glossy = GlossyShading::head;
+                    const NeuralRender head = render_neural(models[mi].model, pt_neural, cam, no);
+                    add("model:" + models[mi].name + "/head-conductors", head.image.color, head.timings.total, 0);
+                    if (mi == 0) tiles.push_back(head.image.color);
                 }
+                // Conductors as diffuse (--glossy diffuse), composed from the render's E_direct and
+                // Ê⁺ (its AOVs), so it costs the render less the conductor pass.
+                const Image diffuse = compose_image(gb, traced.image.direct, traced.image.irradiance).color;
+                add("model:" + models[mi].name + "/diffuse-conductors", diffuse, traced.timings.total - traced.timings.glossy, 0);
+                if (mi == 0) tiles.push_back(diffuse);
             }
             const RenderedImage base = render_pathtraced(pt_base, cam, o.baseline_spp, /*jitter=*/false);
             add("pt" + std::to_string(o.baseline_spp), base.color, base.seconds, o.baseline_spp);

@@ -2,6 +2,8 @@
 #include "ltm/infer/neural_renderer.h"
 
 #include <chrono>
+#include <functional>
+#include <optional>
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
@@ -125,22 +127,51 @@ const char *direct_estimator_name(DirectEstimator e) {
     return "?";
 }
 
+GlossyShading parse_glossy_shading(const std::string &name) {
+    if (name == "auto") return GlossyShading::automatic;
+    if (name == "trace") return GlossyShading::trace;
+    if (name == "head") return GlossyShading::head;
+    if (name == "diffuse") return GlossyShading::diffuse;
+    LTM_THROW("glossy shading '", name, "': expected auto, trace, head or diffuse");
+}
+
+const char *glossy_shading_name(GlossyShading g) {
+    switch (g) {
+        case GlossyShading::automatic: return "auto";
+        case GlossyShading::trace: return "trace";
+        case GlossyShading::head: return "head";
+        case GlossyShading::diffuse: return "diffuse";
+    }
+    return "?";
+}
+
 namespace {
-// Conductor pixels with the directional head: L = Le + L_direct (NEE + BSDF sampling, MIS: the
-// path tracer with one scattering event) + (1/K) Σ_k f cos / pdf · L̂⁺(p, ω_k), ω_k ~ GGX.
-void shade_conductors(LtmModel &model, const EncodedScene &enc, const PathTracer &pt, const Camera &camera, const GBuffer &gb,
-                      const NeuralRenderOptions &opt, RenderedImage &image) {
+// Stream domains of the conductor pass (disjoint from the G-buffer's and the points').
+constexpr uint64_t k_conductor_direct = 0x6c055ull << 40, k_conductor_lobe = 0x9105ull << 40,
+                   k_conductor_bounce = 0x7ace5ull << 40;
+
+// Conductor pixels' GGX samples: rows h·K + j for conductor hit h (gb.hits[h]) and sample j.
+struct ConductorSamples {
+    int K = 0;
+    std::vector<size_t> hits;    // [H] G-buffer hits on conductors
+    std::vector<Vec3f> direct;   // [H] L_direct: NEE + BSDF sampling, MIS (one scattering event)
+    std::vector<Vec3f> weight;   // [H·K] f cos / pdf (0: a failed sample)
+    std::vector<Vec3f> dir;      // [H·K] ω_k, world space, on the facing normal's side
+};
+
+ConductorSamples sample_conductors(const PathTracer &pt, const Camera &camera, const GBuffer &gb, const NeuralRenderOptions &opt) {
     const Scene &scene = pt.accel().scene();
-    std::vector<size_t> hits;
+    ConductorSamples c;
+    c.K = opt.glossy_samples;
     for (size_t k = 0; k < gb.n_hits(); ++k)
-        if (!gb.diffuse[k]) hits.push_back(k);
-    if (hits.empty()) return;
-    const int K = opt.glossy_samples;
-    std::vector<Vec3f> direct(hits.size()), weight(hits.size() * size_t(K), Vec3f(0.f));
-    std::vector<float> qrows(hits.size() * size_t(K) * 9), dirs(hits.size() * size_t(K) * 3);
-    parallel_for(0, int64_t(hits.size()), 16, [&](int64_t b, int64_t e) {
+        if (!gb.diffuse[k]) c.hits.push_back(k);
+    const size_t K = size_t(c.K);
+    c.direct.assign(c.hits.size(), Vec3f(0.f));
+    c.weight.assign(c.hits.size() * K, Vec3f(0.f));
+    c.dir.assign(c.hits.size() * K, Vec3f(0.f));
+    parallel_for(0, int64_t(c.hits.size()), 16, [&](int64_t b, int64_t e) {
         for (int64_t h = b; h < e; ++h) {
-            const size_t k = hits[size_t(h)];
+            const size_t k = c.hits[size_t(h)];
             const int64_t pixel = gb.hit_pixels[k];
             const Ray ray{camera.eye, camera.ray_direction(float(pixel % gb.width) + 0.5f, float(pixel / gb.width) + 0.5f)};
             const auto hit = pt.accel().intersect(ray);
@@ -148,33 +179,100 @@ void shade_conductors(LtmModel &model, const EncodedScene &enc, const PathTracer
             const SurfaceInteraction si = make_interaction(scene, ray, *hit);
             Vec3f d(0.f);
             for (int s = 0; s < opt.direct_spp; ++s) {
-                Pcg32 rng(pt.stream_key(0x6c055ull << 40 | uint64_t(pixel), uint64_t(s)));
+                Pcg32 rng(pt.stream_key(k_conductor_direct | uint64_t(pixel), uint64_t(s)));
                 d += pt.reflected_radiance(si, -ray.d, 1, rng);
             }
-            direct[size_t(h)] = d / float(opt.direct_spp);
-            const Frame frame(si.front ? si.n : -si.n);
+            c.direct[size_t(h)] = d / float(opt.direct_spp);
+            const Frame frame(gb.normal[k]);
             const Vec3f wo = frame.to_local(-ray.d);
             const Bsdf bsdf = si.bsdf();
-            Pcg32 rng(pt.stream_key(0x9105ull << 40 | uint64_t(pixel), 0));
-            for (int j = 0; j < K; ++j) {
-                const size_t row = size_t(h) * size_t(K) + size_t(j);
+            Pcg32 rng(pt.stream_key(k_conductor_lobe | uint64_t(pixel), 0));
+            for (size_t j = 0; j < K; ++j) {
+                const size_t row = size_t(h) * K + j;
                 const BsdfSample bs = bsdf.sample(wo, {rng.next_float(), rng.next_float()});
-                Vec3f w = frame.n;   // a failed sample: any valid direction, weight 0
-                if (bs.pdf > 0.f && bs.wi.z > 0.f) w = normalize(frame.to_world(bs.wi)), weight[row] = bs.weight;
-                const float q[9] = {gb.position[k].x, gb.position[k].y, gb.position[k].z, frame.n.x, frame.n.y, frame.n.z,
-                                    gb.albedo[k].x,   gb.albedo[k].y,   gb.albedo[k].z};
-                std::copy(q, q + 9, qrows.begin() + std::ptrdiff_t(row * 9));
-                dirs[row * 3] = w.x, dirs[row * 3 + 1] = w.y, dirs[row * 3 + 2] = w.z;
+                c.dir[row] = frame.n;   // a failed sample: any valid direction, weight 0
+                if (bs.pdf > 0.f && bs.wi.z > 0.f) c.dir[row] = normalize(frame.to_world(bs.wi)), c.weight[row] = bs.weight;
             }
         }
     });
-    const auto l = model->predict_radiance(rows_tensor(qrows, 9), rows_tensor(dirs, 3), enc.latents).contiguous();
+    return c;
+}
+
+// L̂⁺ of the directional head at every row.  -> [H·K]
+std::vector<Vec3f> head_radiance(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, const ConductorSamples &c) {
+    const size_t K = size_t(c.K), rows = c.hits.size() * K;
+    std::vector<float> q(rows * 9), d(rows * 3);
+    for (size_t row = 0; row < rows; ++row) {
+        const size_t k = c.hits[row / K];
+        const Vec3f cols[4] = {gb.position[k], gb.normal[k], gb.albedo[k], c.dir[row]};
+        for (int col = 0; col < 3; ++col)
+            for (int a = 0; a < 3; ++a) q[row * 9 + size_t(col) * 3 + size_t(a)] = cols[col][a];
+        for (int a = 0; a < 3; ++a) d[row * 3 + size_t(a)] = cols[3][a];
+    }
+    const auto l = model->predict_radiance(rows_tensor(q, 9), rows_tensor(d, 3), enc.latents).contiguous();
     const Vec3f *lp = reinterpret_cast<const Vec3f *>(l.data_ptr<float>());
-    for (size_t h = 0; h < hits.size(); ++h) {
+    return std::vector<Vec3f>(lp, lp + rows);
+}
+
+// One traced bounce (GlossyShading::trace) at every row with a sample.  -> [H·K]
+std::vector<Vec3f> traced_radiance(LtmModel &model, const EncodedScene &enc, const PathTracer &pt, const GBuffer &gb,
+                                   const ConductorSamples &c, const std::function<Vec3f(Vec3f, Vec3f, uint64_t)> &direct_irradiance) {
+    const Scene &scene = pt.accel().scene();
+    const size_t K = size_t(c.K), rows = c.hits.size() * K;
+    std::vector<Vec3f> radiance(rows, Vec3f(0.f));
+    std::vector<float> query(rows * 9);          // a diffuse hit's (p, n facing the ray, ρ)
+    std::vector<uint8_t> diffuse_hit(rows, 0);
+    parallel_for(0, int64_t(c.hits.size()), 16, [&](int64_t b, int64_t e) {
+        for (int64_t h = b; h < e; ++h) {
+            const size_t k = c.hits[size_t(h)];
+            for (size_t j = 0; j < K; ++j) {
+                const size_t row = size_t(h) * K + j;
+                if (c.weight[row] == Vec3f(0.f)) continue;
+                const Vec3f w = c.dir[row];
+                const Ray ray{offset_ray_origin(gb.position[k], gb.normal[k], w), w};
+                const auto hit = pt.accel().intersect(ray);
+                if (!hit) continue;
+                const SurfaceInteraction y = make_interaction(scene, ray, *hit);
+                const uint64_t key = k_conductor_bounce | (uint64_t(gb.hit_pixels[k]) * K + j);
+                if (y.material->bsdf == BsdfKind::diffuse) {
+                    const Vec3f n = y.front ? y.n : -y.n, rho = y.albedo();
+                    radiance[row] = rho * k_inv_pi * direct_irradiance(y.p, n, key);
+                    const Vec3f cols[3] = {y.p, n, rho};
+                    for (int col = 0; col < 3; ++col)
+                        for (int a = 0; a < 3; ++a) query[row * 9 + size_t(col) * 3 + size_t(a)] = cols[col][a];
+                    diffuse_hit[row] = 1;
+                } else {
+                    // Another conductor: path traced on (y scatters first, then up to max_depth more,
+                    // as the reference's camera paths).
+                    Pcg32 rng(pt.stream_key(key, 0));
+                    radiance[row] = pt.reflected_radiance(y, -w, pt.config().max_depth, rng);
+                }
+            }
+        }
+    });
+    // Ê⁺ at the diffuse hits, one batch in row order (deterministic).
+    std::vector<size_t> at;
+    std::vector<float> q;
+    for (size_t row = 0; row < rows; ++row)
+        if (diffuse_hit[row]) at.push_back(row), q.insert(q.end(), query.begin() + std::ptrdiff_t(row * 9), query.begin() + std::ptrdiff_t(row * 9 + 9));
+    if (at.empty()) return radiance;
+    const auto e = model->predict_irradiance(rows_tensor(q, 9), enc.latents, 16384).contiguous();
+    const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
+    for (size_t i = 0; i < at.size(); ++i) {
+        const float *row = &q[i * 9];
+        radiance[at[i]] += Vec3f(row[6], row[7], row[8]) * k_inv_pi * ep[i];
+    }
+    return radiance;
+}
+
+// Writes Le + L_direct + (1/K) Σ weight · L⁺ at the conductor pixels.
+void compose_conductors(const GBuffer &gb, const ConductorSamples &c, const std::vector<Vec3f> &radiance, RenderedImage &image) {
+    const size_t K = size_t(c.K);
+    for (size_t h = 0; h < c.hits.size(); ++h) {
         Vec3f ind(0.f);
-        for (int j = 0; j < K; ++j) ind += weight[h * size_t(K) + size_t(j)] * lp[h * size_t(K) + size_t(j)];
-        const size_t k = hits[h];
-        image.color.pixels[size_t(gb.hit_pixels[k])] = gb.emitted[k] + direct[h] + ind / float(K);
+        for (size_t j = 0; j < K; ++j) ind += c.weight[h * K + j] * radiance[h * K + j];
+        const size_t k = c.hits[h];
+        image.color.pixels[size_t(gb.hit_pixels[k])] = gb.emitted[k] + c.direct[h] + ind / float(K);
     }
 }
 }  // namespace
@@ -195,18 +293,32 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     r.direct = opt.direct;
     if (r.direct == DirectEstimator::automatic)
         r.direct = RatioDirectLight::supports(pt.accel().scene()) ? DirectEstimator::ratio : DirectEstimator::mis;
-    const IrradianceImages direct = r.direct == DirectEstimator::ratio
-                                        ? direct_images_ratio(RatioDirectLight(pt.accel(), opt.seed), gb, opt.direct_spp)
-                                        : irradiance_images(pt, gb, opt.direct_spp, /*with_indirect=*/false);
+    std::optional<RatioDirectLight> ratio;
+    if (r.direct == DirectEstimator::ratio) ratio.emplace(pt.accel(), opt.seed);
+    const IrradianceImages direct = ratio ? direct_images_ratio(*ratio, gb, opt.direct_spp)
+                                          : irradiance_images(pt, gb, opt.direct_spp, /*with_indirect=*/false);
     r.timings.direct = direct.seconds;
     r.image = compose_image(gb, direct.direct, indirect, &r.n_conductor);
-    if (model->directional && r.n_conductor > 0) {
+    GlossyShading glossy = opt.glossy == GlossyShading::automatic ? GlossyShading::trace : opt.glossy;
+    if (glossy == GlossyShading::head && !model->directional)
+        LTM_THROW("neural render: --glossy head needs a directional head, and these weights have none (use trace or diffuse)");
+    if (r.n_conductor > 0 && glossy != GlossyShading::diffuse) {
         if (opt.glossy_samples < 1) LTM_THROW("neural render: glossy samples per pixel must be >= 1, got ", opt.glossy_samples);
         const auto tg = Clock::now();
-        shade_conductors(model, enc, pt, camera, gb, opt, r.image);
-        r.glossy_from_head = true;
+        const ConductorSamples c = sample_conductors(pt, camera, gb, opt);
+        if (glossy == GlossyShading::head) {
+            compose_conductors(gb, c, head_radiance(model, enc, gb, c), r.image);
+        } else {
+            // Light samples per bounce hit: the pixel's budget spread over its K samples.
+            const int spp = (opt.direct_spp + opt.glossy_samples - 1) / opt.glossy_samples;
+            auto direct_irradiance = [&](Vec3f p, Vec3f n, uint64_t key) {
+                return ratio ? ratio->irradiance(p, n, key, spp) : pt.irradiance(p, n, key, spp, /*with_indirect=*/false).direct;
+            };
+            compose_conductors(gb, c, traced_radiance(model, enc, pt, gb, c, direct_irradiance), r.image);
+        }
         r.timings.glossy = seconds_since(tg);
     }
+    r.glossy = r.n_conductor > 0 ? glossy : GlossyShading::diffuse;
     r.timings.total = seconds_since(t0);
     r.image.seconds = r.timings.total;
     r.n_queries = int64_t(gb.n_hits());

@@ -179,7 +179,8 @@ TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
     EXPECT_EQ(dir.count(), n) << "no partial output";
 }
 
-// Issue #11's bad input: weights without a directional head given to guiding, glossy evaluation
+// Issue #11's bad input: weights without a directional head given to guiding, to head shading of
+// conductors, glossy evaluation
 // or head training on records without bins — one line naming what is missing, no output.
 TEST(BadInput, DirectionalHeadMissingIsOneLine) {
     test::TempDir dir;
@@ -193,6 +194,9 @@ TEST(BadInput, DirectionalHeadMissingIsOneLine) {
     expect_error(dir, n, {"render", dir.path("cb.json"), "--method", "guided", "--model", weights, "--spp", "1", "--width", "8",
                           "--height", "8", "-o", dir.path("g")},
                  "render", "has no directional head");
+    expect_error(dir, n, {"render", dir.path("cb.json"), "--method", "neural", "--glossy", "head", "--model", weights, "--width", "8",
+                          "--height", "8", "-o", dir.path("g")},
+                 "render", "--glossy head needs a directional head");
     expect_error(dir, n, {"render", dir.path("cb.json"), "--method", "guided", "-o", dir.path("g")}, "render",
                  "--method guided needs --model");
     expect_error(dir, n, {"eval-directional", "--model", weights, "--data", dir.path("none"), "--out", dir.path("e")},

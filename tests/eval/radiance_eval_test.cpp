@@ -59,7 +59,7 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
     EXPECT_EQ(r.conductor_pixels, n_conductor);
     EXPECT_EQ(r.conductors.views[0].pixels, n_conductor);
     const ViewResult &all = r.all.views[0], &cond = r.conductors.views[0];
-    for (const char *m : {"model:tiny", "model:tiny/diffuse-conductors", "pt4", "pt-equal-time", "flat-oracle"}) {
+    for (const char *m : {"model:tiny", "model:tiny/head-conductors", "model:tiny/diffuse-conductors", "pt4", "pt-equal-time", "flat-oracle"}) {
         for (const ViewResult *v : {&all, &cond}) {
             const MethodResult &x = row(*v, m);
             EXPECT_TRUE(std::isfinite(x.metrics.mse) && std::isfinite(x.metrics.rel_mse) && std::isfinite(x.field.level_ratio)) << m;
@@ -67,17 +67,19 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
     }
     EXPECT_NEAR(row(all, "flat-oracle").field.level_ratio, 1.0, 1e-6);
     EXPECT_GT(row(all, "pt-equal-time").spp, 0);
-    // The head changes only conductor pixels: (MSE_all(head) − MSE_all(diffuse)) · N_pixels equals
-    // (MSE_cond(head) − MSE_cond(diffuse)) · N_conductor, with N_pixels the whole image.
+    // The traced bounce and the head change only conductor pixels: (MSE_all(x) − MSE_all(diffuse)) ·
+    // N_pixels equals (MSE_cond(x) − MSE_cond(diffuse)) · N_conductor, with N_pixels the whole image.
     const double n_pixels = 24.0 * 24.0;
-    const double d_all = (row(all, "model:tiny").metrics.mse - row(all, "model:tiny/diffuse-conductors").metrics.mse) * n_pixels;
-    const double d_cond = (row(cond, "model:tiny").metrics.mse - row(cond, "model:tiny/diffuse-conductors").metrics.mse) *
-                          double(n_conductor);
-    EXPECT_GT(std::abs(d_cond), 1e-6);
-    EXPECT_NEAR(d_all, d_cond, 1e-6 * n_pixels);
+    for (const char *m : {"model:tiny", "model:tiny/head-conductors"}) {
+        const double d_all = (row(all, m).metrics.mse - row(all, "model:tiny/diffuse-conductors").metrics.mse) * n_pixels;
+        const double d_cond = (row(cond, m).metrics.mse - row(cond, "model:tiny/diffuse-conductors").metrics.mse) * double(n_conductor);
+        EXPECT_GT(std::abs(d_cond), 1e-6) << m;
+        EXPECT_NEAR(d_all, d_cond, 1e-6 * n_pixels) << m;
+    }
     const std::string md = r.table_markdown();
     EXPECT_NE(md.find("Conductor pixels (" + std::to_string(n_conductor)), std::string::npos) << md;
     EXPECT_NE(md.find("| model:tiny/diffuse-conductors |"), std::string::npos);
+    EXPECT_NE(md.find("| model:tiny/head-conductors |"), std::string::npos);
     // Bad options are refused with the reason.
     RadianceEvalOptions bad = opt;
     bad.glossy_samples = 0;

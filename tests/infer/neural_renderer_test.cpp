@@ -2,10 +2,13 @@
 // weights: view consistency, batch independence, composition, and direct light = the PT estimator.
 #include <gtest/gtest.h>
 
+#include "ltm/core/color.h"
 #include "ltm/core/error.h"
+#include "ltm/core/rng.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/render/direct_light.h"
+#include "ltm/render/interaction.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/pbrt_reader.h"
 #include "ltm/scene/scene_loader.h"
@@ -256,15 +259,19 @@ TEST(NeuralRenderer, ConductorsAreShadedWithTheDirectionalHead) {
     const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.3f, 1.5f}, 24);
     NeuralRenderOptions opt;
     opt.direct_spp = 4, opt.seed = 2, opt.direct = DirectEstimator::mis, opt.glossy_samples = 8;
-    auto render = [&](const Scene &s, LtmModel &m) {
+    auto render = [&](const Scene &s, LtmModel &m, GlossyShading g) {
         const EmbreeAccel accel(s);
         const PathTracer pt(accel, PathTracerConfig{});
-        return render_neural(m, pt, cam, opt);
+        NeuralRenderOptions o = opt;
+        o.glossy = g;
+        return render_neural(m, pt, cam, o);
     };
-    const NeuralRender a = render(scene, plain), b = render(scene, headed);
+    const NeuralRender a = render(scene, plain, GlossyShading::diffuse), b = render(scene, headed, GlossyShading::head);
     ASSERT_GT(b.n_conductor, 10);
-    EXPECT_FALSE(a.glossy_from_head);
-    EXPECT_TRUE(b.glossy_from_head);
+    EXPECT_EQ(a.glossy, GlossyShading::diffuse);
+    EXPECT_EQ(b.glossy, GlossyShading::head);
+    // Weights without a head cannot shade through one: a one-line error, not a diffuse image.
+    EXPECT_THROW(render(scene, plain, GlossyShading::head), Error);
     const EmbreeAccel accel(scene);
     const GBuffer gb = render_gbuffer(accel, cam);
     int changed = 0;
@@ -282,10 +289,90 @@ TEST(NeuralRenderer, ConductorsAreShadedWithTheDirectionalHead) {
     // Emission ×4: the image ×4 (direct light and the head's L̂⁺ are both linear in emission).
     Scene bright = scene;
     for (auto &m : bright.materials) m.emission.color_a = m.emission.color_a * 4.f;
-    const NeuralRender c = render(bright, headed);
+    const NeuralRender c = render(bright, headed, GlossyShading::head);
     for (size_t k = 0; k < gb.n_hits(); ++k) {
         const size_t i = size_t(gb.hit_pixels[k]);
         for (int ch = 0; ch < 3; ++ch)
             EXPECT_NEAR(c.image.color.pixels[i][ch], 4.f * b.image.color.pixels[i][ch], 1e-4f * std::max(1.f, 4.f * b.image.color.pixels[i][ch]));
+    }
+}
+
+// Conductors by one traced bounce (GlossyShading::trace): each GGX sample's hit y contributes the
+// radiance leaving it, ρ/π·(E_direct(y) + Ê⁺(y)). With the decoder's output layer silenced (Ê⁺ ≈ 0)
+// that is exactly what a path tracer with two scattering events computes at a conductor pixel
+// (direct light at the conductor, then one bounce and direct light at y), so the two agree in the
+// mean over the conductor pixels within their noise; the render is linear in emission, needs no
+// directional head, and leaves diffuse pixels as they were.
+TEST(NeuralRenderer, TracedConductorsAreTwoBouncePathTracingWhenThereIsNoIndirectLight) {
+    Scene scene = load_scene("builtin:quad-light-room");
+    Material metal;
+    metal.name = "metal", metal.bsdf = BsdfKind::conductor, metal.roughness = 0.1f, metal.specular = Vec3f(0.9f, 0.6f, 0.3f);
+    scene.meshes[0].material = scene.add_material(metal);
+    LtmModel model = tiny_model();
+    {
+        torch::NoGradGuard g;
+        for (auto &p : model->named_parameters())
+            if (p.key() == "decoder.out.3.weight") p.value().zero_();
+            else if (p.key() == "decoder.out.3.bias") p.value().fill_(-60.f);   // z = softplus(−60) ≈ 1e-26: Ê⁺ ≈ 0
+        model->eval();
+    }
+    const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.3f, 1.5f}, 24);
+    PathTracerConfig cfg;
+    cfg.max_depth = 1;   // a conductor seen from a conductor: one more scattering event, as the reference
+    auto render = [&](const Scene &s, GlossyShading glossy) {
+        const EmbreeAccel accel(s);
+        const PathTracer pt(accel, cfg);
+        NeuralRenderOptions opt;
+        opt.direct_spp = 256, opt.seed = 3, opt.direct = DirectEstimator::mis, opt.glossy_samples = 256, opt.glossy = glossy;
+        return render_neural(model, pt, cam, opt);
+    };
+    const NeuralRender traced = render(scene, GlossyShading::trace), diffuse = render(scene, GlossyShading::diffuse);
+    EXPECT_EQ(traced.glossy, GlossyShading::trace);
+    const EmbreeAccel accel(scene);
+    const PathTracer pt(accel, cfg);
+    const GBuffer gb = render_gbuffer(accel, cam);
+    double sum_diff = 0, sum_sq = 0, sum_ref = 0;
+    int n = 0;
+    for (size_t k = 0; k < gb.n_hits(); ++k) {
+        const size_t i = size_t(gb.hit_pixels[k]);
+        ASSERT_LT(max_component(traced.image.irradiance.pixels[i]), 1e-12f) << "the silenced decoder predicts Ê⁺ ≈ 0";
+        if (gb.diffuse[k]) {
+            EXPECT_EQ(traced.image.color.pixels[i], diffuse.image.color.pixels[i]) << "diffuse pixel " << i;
+            continue;
+        }
+        const Ray ray{cam.eye, cam.ray_direction(float(i % size_t(cam.width)) + 0.5f, float(i / size_t(cam.width)) + 0.5f)};
+        const SurfaceInteraction si = make_interaction(scene, ray, *accel.intersect(ray));
+        Vec3f ref(0.f);
+        constexpr int spp = 2048;
+        for (int s = 0; s < spp; ++s) {
+            Pcg32 rng(pt.stream_key(uint64_t(i), uint64_t(s)));
+            ref += pt.reflected_radiance(si, -ray.d, 2, rng);
+        }
+        ref = ref / float(spp) + si.emitted();
+        const double d = double(luminance(traced.image.color.pixels[i])) - double(luminance(ref));
+        sum_diff += d, sum_sq += d * d, sum_ref += luminance(ref), ++n;
+    }
+    ASSERT_GT(n, 40);
+    const double mean = sum_diff / n, sd = std::sqrt(std::max(0.0, sum_sq / n - mean * mean));
+    EXPECT_LT(std::abs(mean), 4.0 * sd / std::sqrt(double(n)) + 1e-3 * sum_ref / n) << "mean luminance difference " << mean;
+    // The bounce carries light: without it the conductors lose a visible share of their radiance.
+    double traced_sum = 0, diffuse_like = 0;
+    for (size_t k = 0; k < gb.n_hits(); ++k)
+        if (!gb.diffuse[k]) {
+            const size_t i = size_t(gb.hit_pixels[k]);
+            traced_sum += luminance(traced.image.color.pixels[i]);
+            diffuse_like += luminance(diffuse.image.color.pixels[i]);
+        }
+    EXPECT_GT(std::abs(traced_sum - sum_ref), 0.0);
+    EXPECT_GT(std::abs(traced_sum - diffuse_like), 0.05 * traced_sum);
+    // Linear in emission: emission ×4, the conductor pixels ×4.
+    Scene bright = scene;
+    for (auto &m : bright.materials) m.emission.color_a = m.emission.color_a * 4.f;
+    const NeuralRender c = render(bright, GlossyShading::trace);
+    for (size_t k = 0; k < gb.n_hits(); ++k) {
+        const size_t i = size_t(gb.hit_pixels[k]);
+        for (int ch = 0; ch < 3; ++ch)
+            EXPECT_NEAR(c.image.color.pixels[i][ch], 4.f * traced.image.color.pixels[i][ch],
+                        1e-4f * std::max(1.f, 4.f * traced.image.color.pixels[i][ch]));
     }
 }

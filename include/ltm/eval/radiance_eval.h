@@ -3,10 +3,11 @@
 //   reference      render_pathtraced at ref_spp without jitter: Le + albedo/π·(E_direct + E⁺) on
 //                  diffuse pixels, full path tracing on conductors;
 //   model:NAME     render_neural: Ê⁺ on diffuse pixels; on conductors NEE direct light + GGX samples
-//                  of the directional head's L̂⁺ (when the weights carry a head);
-//   model:NAME/diffuse-conductors   the same render's E_direct and Ê⁺ with conductors shaded as
-//                  diffuse with their albedo (the best an irradiance-only model can do; its time is
-//                  the render's less the head's): what the head adds;
+//                  of one traced bounce into the model's Ê⁺ (GlossyShading::trace, the default);
+//   model:NAME/head-conductors   the same with the directional head's L̂⁺ along the GGX samples
+//                  (paper Fig. 11; only for weights that carry a head);
+//   model:NAME/diffuse-conductors   the traced render's E_direct and Ê⁺ with conductors shaded as
+//                  diffuse with their albedo (its time is the render's less the conductor pass);
 //   ptN, pt-equal-time (spp scaled to the neural render's whole wall time), flat-oracle (every
 //                  hit pixel the reference's mean colour: a floor, not a method).
 // Metrics over all pixels (`all`) and over conductor pixels only (`conductors`, through
@@ -36,8 +37,10 @@ struct RadianceEvalReport {
     std::string table_markdown() const;   ///< both tables, each with its caption
 };
 
-/// Runs every scene × view × method; progress on stderr; grids (albedo | reference | model |
-/// model with diffuse conductors | PT baseline | PT equal time | |model − reference|) into
+/// Runs every scene × view × method (each model: conductors by a traced bounce — the row
+/// "model:NAME" — through the directional head where it has one — "/head-conductors" — and as
+/// diffuse); progress on stderr; grids (albedo | reference | model | model, head conductors |
+/// model, diffuse conductors | PT baseline | PT equal time | |model − reference|) into
 /// opt.base.out_dir when it is set. Throws ltm::Error on bad options or a scene without a camera.
 RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes, std::vector<EvalModel> &models,
                                            const RadianceEvalOptions &opt);

@@ -52,9 +52,26 @@ enum class DirectEstimator {
 DirectEstimator parse_direct_estimator(const std::string &name);   ///< "mis" | "ratio" | "auto"
 const char *direct_estimator_name(DirectEstimator e);
 
+/// How a neural render shades conductor pixels. Every way but `diffuse` computes
+///   L = Le + L_direct + (1/K) Σ_k f cos / pdf · L⁺(p, ω_k),   ω_k ~ GGX (K = glossy_samples),
+/// L_direct by the path tracer's NEE + BSDF sampling with MIS (one scattering event), and differs
+/// in where L⁺ — the radiance arriving along ω_k, emitters seen directly excluded — comes from.
+enum class GlossyShading {
+    automatic,   ///< trace
+    /// One traced bounce: L⁺(ω_k) is the radiance leaving the surface y that ω_k hits towards p,
+    /// without y's emission: ρ(y)/π·(E_direct(y) + Ê⁺(y)) at a diffuse y (Ê⁺ from the irradiance
+    /// head, E_direct by the render's direct estimator), path traced at a conductor y, 0 on a
+    /// miss. Needs no directional head; resolves a GGX lobe as finely as the scene's geometry.
+    trace,
+    head,        ///< the directional head's L̂⁺(p, ω_k) (paper Fig. 11); needs a directional head
+    diffuse,     ///< as if diffuse: Le + ρ/π·(E_direct + Ê⁺) (what an irradiance-only model gives)
+};
+GlossyShading parse_glossy_shading(const std::string &name);   ///< "auto" | "trace" | "head" | "diffuse"
+const char *glossy_shading_name(GlossyShading g);
+
 struct NeuralTimings {
     double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
-    double glossy = 0;   ///< conductor pixels with the directional head (direct light + the head's L̂⁺)
+    double glossy = 0;   ///< conductor pixels (direct light + L⁺ by the GlossyShading used)
     /// The model's own cost: everything but the G-buffer and direct light (which any renderer pays).
     double model() const { return sample + geometry + encode + knn + decode; }
     OrderedJson to_json() const;
@@ -66,7 +83,7 @@ struct NeuralRender {
     int64_t n_queries = 0;   ///< pixels with a surface
     int64_t n_decoded = 0;   ///< queries the decoder ran on (n_queries unless gi.stride > 1)
     int64_t n_scene_points = 0, n_conductor = 0;
-    bool glossy_from_head = false;   ///< conductors shaded with the directional head (else as diffuse)
+    GlossyShading glossy = GlossyShading::diffuse;   ///< how conductor pixels were shaded (diffuse if none is seen)
     DirectEstimator direct = DirectEstimator::mis;   ///< the estimator that was used
 };
 struct NeuralRenderOptions {
@@ -75,10 +92,11 @@ struct NeuralRenderOptions {
     uint64_t seed = 0;              ///< scene-point sampling and direct-light streams
     bool exclude_enclosed = true;   ///< scene points as in the dataset
     GiUpsampleOptions gi{1};        ///< stride 1: Ê⁺ decoded at every pixel
-    /// Conductor pixels, when the model has a directional head (paper Fig. 11): direct light by
-    /// the path tracer's NEE + BSDF sampling with MIS (direct_spp samples), the indirect part
-    /// ∫ f L̂⁺ cos dω by this many GGX samples, each the head's L̂⁺ in that direction. Without a
-    /// head, conductors are shaded as diffuse (n_conductor says how many).
+    /// Conductor pixels (GlossyShading): direct light by the path tracer's NEE + BSDF sampling
+    /// with MIS (direct_spp samples), the indirect part ∫ f L⁺ cos dω by glossy_samples GGX
+    /// samples. `head` without a directional head throws. With `trace`, each sample's hit gets
+    /// ⌈direct_spp / glossy_samples⌉ light samples.
+    GlossyShading glossy = GlossyShading::automatic;
     int glossy_samples = 16;
 };
 /// The whole neural render of one view.
