@@ -29,6 +29,11 @@ void declare(CLI::App &sub, EvalDirectionalArgs &a) {
     sub.add_option("--prior-cells", a.opt.prior_cells, "R of a row for the directional transport prior alone (R×R cells; 0: none)")
         ->capture_default_str()
         ->check(CLI::Range(0, 64));
+    sub.add_option("--traced", a.opt.traced_samples,
+                   "Samples per bin of a row for one traced bounce into the model's E+ (what --glossy trace renders; "
+                   "regenerates each record's scene; 0: none)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1024));
     sub.add_option("--lmax", a.opt.l_max, "Highest SH degree fitted")->capture_default_str()->check(CLI::Range(0, 16));
     sub.add_option("--tiles", a.opt.tiles, "Points drawn as tiles: reference | head | SH l=2 | SH l=lmax")
         ->capture_default_str()->check(CLI::Range(0, 64));

@@ -160,6 +160,19 @@ void build_dataset(const BuildOptions &opt) {
     write_file_atomic(opt.out_dir + "/manifest.json", dump_json_compact(manifest));
 }
 
+Scene regenerate_scene(const SceneRecord &r) {
+    const std::string &path = r.path;
+    const DataPreset p = DataPreset::from_json(r.metadata.at("preset"), path + " (preset)");
+    if (r.metadata.value("generator_version", -1) != k_indoor_generator_version)
+        LTM_THROW(path, ": generator version ", r.metadata.value("generator_version", -1), ", this build generates ",
+                  k_indoor_generator_version, ": the scene cannot be regenerated");
+    const GenConfig gen = p.generator.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(p.generator), p.generator);
+    GeneratedScene g = generate_indoor(gen, r.seed);
+    if (g.scene.name != r.metadata.value("scene", std::string()))
+        LTM_THROW(path, ": regenerated scene '", g.scene.name, "' is not the record's '", r.metadata.value("scene", std::string()), "'");
+    return std::move(g.scene);
+}
+
 int64_t upgrade_dataset(const std::string &dir) {
     std::vector<std::string> todo;
     for (const auto &path : list_records(dir))
@@ -170,14 +183,8 @@ int64_t upgrade_dataset(const std::string &dir) {
     for (const auto &path : todo) {
         SceneRecord r = read_record(path);
         const DataPreset p = DataPreset::from_json(r.metadata.at("preset"), path + " (preset)");
-        if (r.metadata.value("generator_version", -1) != k_indoor_generator_version)
-            LTM_THROW(path, ": generator version ", r.metadata.value("generator_version", -1), ", this build generates ",
-                      k_indoor_generator_version, ": the scene cannot be regenerated");
-        const GenConfig gen = p.generator.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(p.generator), p.generator);
-        const GeneratedScene g = generate_indoor(gen, r.seed);
-        if (g.scene.name != r.metadata.value("scene", std::string()))
-            LTM_THROW(path, ": regenerated scene '", g.scene.name, "' is not the record's '", r.metadata.value("scene", std::string()), "'");
-        const EmbreeAccel accel(g.scene);
+        const Scene scene = regenerate_scene(r);
+        const EmbreeAccel accel(scene);
         r.emission_scale = sample_scene_points(accel, p.scene_points, r.seed, p.exclude_enclosed).emission_scale;
         write_record(path, r);
         progress.add(1);

@@ -3,18 +3,60 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/nn/point_tensor.h"
+#include "ltm/core/rng.h"
+#include "ltm/data/dataset.h"
+#include "ltm/infer/traced_bounce.h"
 #include "ltm/points/scene_record.h"
+#include "ltm/render/embree_accel.h"
 #include "ltm/render/hemisphere_bins.h"
 #include "ltm/render/spherical_harmonics.h"
 
 namespace ltm {
 
 namespace {
+// Every bin of every point: the mean of S one-traced-bounce samples uniform over the bin's square
+// (equal projected solid angle: the measure of the reference bins' cosine-weighted samples), in
+// the record's regenerated scene, one light sample per hit.  -> [points·R²]
+std::vector<Vec3f> traced_bins(LtmModel &model, const SceneLatents &lat, const SceneRecord &r, const std::vector<int64_t> &pts,
+                               int R, int S) {
+    const Scene scene = regenerate_scene(r);
+    const EmbreeAccel accel(scene);
+    PathTracerConfig cfg;
+    cfg.seed = hash_keys({r.seed, 0x7ace5ull});
+    cfg.max_depth = r.metadata.at("preset").value("max_depth", cfg.max_depth);
+    const PathTracer pt(accel, cfg);
+    std::optional<RatioDirectLight> ratio;
+    if (RatioDirectLight::supports(scene)) ratio.emplace(accel, cfg.seed);
+    const size_t nb = size_t(R) * size_t(R), s_n = size_t(S), rows = pts.size() * nb * s_n;
+    std::vector<Ray> rays(rows);
+    std::vector<uint64_t> keys(rows);
+    for (size_t j = 0; j < pts.size(); ++j) {
+        const size_t q = size_t(pts[j]);
+        const Vec3f p(r.query_points.at(q, 0), r.query_points.at(q, 1), r.query_points.at(q, 2));
+        const Vec3f n = normalize(Vec3f(r.query_points.at(q, 3), r.query_points.at(q, 4), r.query_points.at(q, 5)));
+        const Frame frame(n);
+        for (size_t b = 0; b < nb; ++b) {
+            Pcg32 rng(hash_keys({cfg.seed, q, b}));
+            for (size_t s = 0; s < s_n; ++s) {
+                const size_t row = (j * nb + b) * s_n + s;
+                const Vec3f w = normalize(frame.to_world(square_to_direction(bin_to_square(int(b), R, {rng.next_float(), rng.next_float()}))));
+                rays[row] = Ray{offset_ray_origin(p, n, w), w};
+                keys[row] = (q * nb + b) * s_n + s;
+            }
+        }
+    }
+    const std::vector<Vec3f> l = traced_bounce_radiance(model, lat, pt, rays, keys, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, 1));
+    std::vector<Vec3f> bins(pts.size() * nb, Vec3f(0.f));
+    for (size_t row = 0; row < rows; ++row) bins[row / s_n] += l[row] / float(S);
+    return bins;
+}
+
 double sq_err(const Vec3f *a, const Vec3f *b, size_t n) {
     double e = 0;
     for (size_t i = 0; i < n; ++i)
@@ -39,6 +81,10 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     res.resolution = R, res.radiance = dc.radiance;
     res.sh.assign(size_t(opt.l_max + 1), 0.0);
     res.head_beats_sh.assign(size_t(opt.l_max + 1), 0);
+    if (opt.traced_samples < 0) LTM_THROW("directional eval: traced samples per bin must be >= 0, got ", opt.traced_samples);
+    const bool with_traced = opt.traced_samples > 0;
+    if (with_traced) res.traced_beats_sh.assign(size_t(opt.l_max + 1), 0);
+    double traced_err = 0;
     double ref2 = 0, prior_err = 0, gap_m = 0, gap_r = 0, e_model_sum = 0, e_ref_sum = 0, seconds = 0;
     std::vector<std::vector<Vec3f>> tile_rows;   // per tiled point: ref, head, SH 2, SH l_max
     for (const std::string &path : paths) {
@@ -63,6 +109,8 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
         torch::Tensor prior_l;   // the directional transport prior's bins, [P·R², 3]
         if (with_prior)
             prior_l = radiance_scale(rows_tensor(hemi.query, 9), rows_tensor(hemi.direction, 3), lat.norm, opt.prior_cells).contiguous();
+        std::vector<Vec3f> traced;   // one traced bounce's bins, [P·R²]
+        if (with_traced) traced = traced_bins(model, lat, r, pts, R, opt.traced_samples);
         for (int64_t j = 0; j < np; ++j) {
             const size_t q = size_t(pts[size_t(j)]);
             const std::vector<Vec3f> ref(reinterpret_cast<const Vec3f *>(r.l_in.data()) + q * size_t(nb),
@@ -81,12 +129,15 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
             res.uniform += sq_err(uniform.data(), ref.data(), size_t(nb));
             res.uniform_model += sq_err(uniform_model.data(), ref.data(), size_t(nb));
             if (with_prior) prior_err += sq_err(reinterpret_cast<const Vec3f *>(prior_l.data_ptr<float>()) + size_t(j) * size_t(nb), ref.data(), size_t(nb));
+            const double et = with_traced ? sq_err(traced.data() + size_t(j) * size_t(nb), ref.data(), size_t(nb)) : 0.0;
+            traced_err += et;
             std::vector<std::vector<Vec3f>> fits;
             for (int l = 0; l <= opt.l_max; ++l) {
                 fits.push_back(sh.fit(ref, l));
                 const double es_l = sq_err(fits.back().data(), ref.data(), size_t(nb));
                 res.sh[size_t(l)] += es_l;
                 res.head_beats_sh[size_t(l)] += eh < es_l;
+                if (with_traced) res.traced_beats_sh[size_t(l)] += et < es_l;
             }
             for (int c = 0; c < 3; ++c) {
                 gap_m += std::abs(double(integral[c] - e_model[c])), gap_r += std::abs(double(integral[c] - e_ref[c]));
@@ -106,6 +157,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     const double norm = ref2 > 0 ? ref2 : 1.0;
     res.head /= norm, res.uniform /= norm, res.uniform_model /= norm;
     if (with_prior) res.prior = prior_err / norm, res.prior_cells = opt.prior_cells;
+    if (with_traced) res.traced = traced_err / norm, res.traced_samples = opt.traced_samples;
     for (double &e : res.sh) e /= norm;
     res.hemisphere_gap_vs_model = gap_m / std::max(e_model_sum, 1e-30);
     res.hemisphere_gap_vs_ref = gap_r / std::max(e_ref_sum, 1e-30);
@@ -133,7 +185,8 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
 
 OrderedJson DirectionalEvalResult::to_json() const {
     OrderedJson j = {{"records", records}, {"points", points}, {"bin_resolution", resolution}, {"radiance", radiance},
-                     {"head_rel_mse", head}, {"uniform_rel_mse", uniform}, {"uniform_model_rel_mse", uniform_model}, {"prior_rel_mse", prior}, {"prior_cells", prior_cells}, {"sh_rel_mse", sh}, {"head_beats_sh_points", head_beats_sh},
+                     {"head_rel_mse", head}, {"uniform_rel_mse", uniform}, {"uniform_model_rel_mse", uniform_model}, {"prior_rel_mse", prior}, {"prior_cells", prior_cells}, {"traced_rel_mse", traced}, {"traced_samples", traced_samples},
+                     {"traced_beats_sh_points", traced_beats_sh}, {"sh_rel_mse", sh}, {"head_beats_sh_points", head_beats_sh},
                      {"hemisphere_gap_vs_model", hemisphere_gap_vs_model}, {"hemisphere_gap_vs_ref", hemisphere_gap_vs_ref},
                      {"seconds_per_point", seconds_per_point}};
     return j;
@@ -147,10 +200,17 @@ std::string DirectionalEvalResult::markdown() const {
     s << "| uniform radiance of the irradiance head's Ê (a head's start without prior_cells) | " << uniform_model << " | |\n";
     if (prior >= 0)
         s << "| directional transport prior alone, " << prior_cells << "×" << prior_cells << " cells | " << prior << " | |\n";
+    if (traced >= 0)
+        s << "| one traced bounce into Ê⁺, " << traced_samples << " samples per bin (ray traced, not a decoder) | " << traced << " | |\n";
     s << "| uniform radiance, reference's ∫ L cos (oracle floor) | " << uniform << " | |\n";
     for (size_t l = 0; l < sh.size(); ++l)
         s << "| SH best fit to the reference, l ≤ " << l << " (" << (l + 1) * (l + 1) << " coefficients) | " << sh[l] << " | "
           << head_beats_sh[l] << " of " << points << " |\n";
+    if (traced >= 0) {
+        s << "\nOne traced bounce is closer than the SH fit of degree l = 0, 1, …, " << sh.size() - 1 << " at";
+        for (size_t l = 0; l < traced_beats_sh.size(); ++l) s << (l ? ", " : " ") << traced_beats_sh[l];
+        s << " of " << points << " points.\n";
+    }
     return s.str();
 }
 

@@ -2,7 +2,6 @@
 #include "ltm/infer/neural_renderer.h"
 
 #include <chrono>
-#include <functional>
 #include <optional>
 
 #include "ltm/core/error.h"
@@ -11,6 +10,7 @@
 #include "ltm/core/rng.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
+#include "ltm/infer/traced_bounce.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/scene_points.h"
 
@@ -214,55 +214,18 @@ std::vector<Vec3f> head_radiance(LtmModel &model, const EncodedScene &enc, const
     return std::vector<Vec3f>(lp, lp + rows);
 }
 
-// One traced bounce (GlossyShading::trace) at every row with a sample.  -> [H·K]
+// One traced bounce (GlossyShading::trace) along every row with a sample.  -> [H·K]
 std::vector<Vec3f> traced_radiance(LtmModel &model, const EncodedScene &enc, const PathTracer &pt, const GBuffer &gb,
-                                   const ConductorSamples &c, const std::function<Vec3f(Vec3f, Vec3f, uint64_t)> &direct_irradiance) {
-    const Scene &scene = pt.accel().scene();
+                                   const ConductorSamples &c, const DirectIrradianceFn &direct) {
     const size_t K = size_t(c.K), rows = c.hits.size() * K;
-    std::vector<Vec3f> radiance(rows, Vec3f(0.f));
-    std::vector<float> query(rows * 9);          // a diffuse hit's (p, n facing the ray, ρ)
-    std::vector<uint8_t> diffuse_hit(rows, 0);
-    parallel_for(0, int64_t(c.hits.size()), 16, [&](int64_t b, int64_t e) {
-        for (int64_t h = b; h < e; ++h) {
-            const size_t k = c.hits[size_t(h)];
-            for (size_t j = 0; j < K; ++j) {
-                const size_t row = size_t(h) * K + j;
-                if (c.weight[row] == Vec3f(0.f)) continue;
-                const Vec3f w = c.dir[row];
-                const Ray ray{offset_ray_origin(gb.position[k], gb.normal[k], w), w};
-                const auto hit = pt.accel().intersect(ray);
-                if (!hit) continue;
-                const SurfaceInteraction y = make_interaction(scene, ray, *hit);
-                const uint64_t key = k_conductor_bounce | (uint64_t(gb.hit_pixels[k]) * K + j);
-                if (y.material->bsdf == BsdfKind::diffuse) {
-                    const Vec3f n = y.front ? y.n : -y.n, rho = y.albedo();
-                    radiance[row] = rho * k_inv_pi * direct_irradiance(y.p, n, key);
-                    const Vec3f cols[3] = {y.p, n, rho};
-                    for (int col = 0; col < 3; ++col)
-                        for (int a = 0; a < 3; ++a) query[row * 9 + size_t(col) * 3 + size_t(a)] = cols[col][a];
-                    diffuse_hit[row] = 1;
-                } else {
-                    // Another conductor: path traced on (y scatters first, then up to max_depth more,
-                    // as the reference's camera paths).
-                    Pcg32 rng(pt.stream_key(key, 0));
-                    radiance[row] = pt.reflected_radiance(y, -w, pt.config().max_depth, rng);
-                }
-            }
-        }
-    });
-    // Ê⁺ at the diffuse hits, one batch in row order (deterministic).
-    std::vector<size_t> at;
-    std::vector<float> q;
-    for (size_t row = 0; row < rows; ++row)
-        if (diffuse_hit[row]) at.push_back(row), q.insert(q.end(), query.begin() + std::ptrdiff_t(row * 9), query.begin() + std::ptrdiff_t(row * 9 + 9));
-    if (at.empty()) return radiance;
-    const auto e = model->predict_irradiance(rows_tensor(q, 9), enc.latents, 16384).contiguous();
-    const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
-    for (size_t i = 0; i < at.size(); ++i) {
-        const float *row = &q[i * 9];
-        radiance[at[i]] += Vec3f(row[6], row[7], row[8]) * k_inv_pi * ep[i];
+    std::vector<Ray> rays(rows, Ray{Vec3f(0.f), Vec3f(0.f)});   // zero direction: a failed sample, skipped
+    std::vector<uint64_t> keys(rows);
+    for (size_t row = 0; row < rows; ++row) {
+        const size_t k = c.hits[row / K];
+        keys[row] = k_conductor_bounce | (uint64_t(gb.hit_pixels[k]) * K + row % K);
+        if (c.weight[row] != Vec3f(0.f)) rays[row] = Ray{offset_ray_origin(gb.position[k], gb.normal[k], c.dir[row]), c.dir[row]};
     }
-    return radiance;
+    return traced_bounce_radiance(model, enc.latents, pt, rays, keys, direct);
 }
 
 // Writes Le + L_direct + (1/K) Σ weight · L⁺ at the conductor pixels.
@@ -311,10 +274,8 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
         } else {
             // Light samples per bounce hit: the pixel's budget spread over its K samples.
             const int spp = (opt.direct_spp + opt.glossy_samples - 1) / opt.glossy_samples;
-            auto direct_irradiance = [&](Vec3f p, Vec3f n, uint64_t key) {
-                return ratio ? ratio->irradiance(p, n, key, spp) : pt.irradiance(p, n, key, spp, /*with_indirect=*/false).direct;
-            };
-            compose_conductors(gb, c, traced_radiance(model, enc, pt, gb, c, direct_irradiance), r.image);
+            compose_conductors(gb, c, traced_radiance(model, enc, pt, gb, c, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, spp)),
+                               r.image);
         }
         r.timings.glossy = seconds_since(tg);
     }

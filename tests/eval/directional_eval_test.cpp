@@ -71,3 +71,30 @@ TEST(DirectionalEval, UniformStartIntegratesToThePriorAndShErrorsFall) {
         EXPECT_NE(std::string(e.what()).find("no directional head"), std::string::npos) << e.what();
     }
 }
+
+// The traced-bounce row (infer/traced_bounce.h) regenerates the record's scene and traces each
+// bin: it resolves where the light comes from, so it is closer to the reference bins than the
+// uniform radiance with the reference's own cosine integral; and it leaves every other row as it was.
+TEST(DirectionalEval, TracedBounceRowResolvesDirections) {
+    test::TempDir tmp;
+    const std::string dir = build_records(tmp.path("data"), 4);
+    torch::manual_seed(2);
+    LtmModel m(tiny_with_head());
+    m->decoder->start_at_prior();
+    DirectionalEvalOptions opt;
+    opt.points_per_record = 8, opt.l_max = 3, opt.tiles = 0;
+    const DirectionalEvalResult plain = evaluate_directional(m, dir, opt);
+    EXPECT_LT(plain.traced, 0.0) << "no row unless asked";
+    opt.traced_samples = 16;
+    const DirectionalEvalResult r = evaluate_directional(m, dir, opt);
+    ASSERT_TRUE(std::isfinite(r.traced));
+    EXPECT_GE(r.traced, 0.0);
+    EXPECT_LT(r.traced, 0.8 * r.uniform) << "traced " << r.traced << ", uniform " << r.uniform;
+    EXPECT_EQ(r.head, plain.head);
+    EXPECT_EQ(r.sh, plain.sh);
+    ASSERT_EQ(r.traced_beats_sh.size(), 4u);
+    for (int n : r.traced_beats_sh) EXPECT_LE(n, r.points);
+    EXPECT_NE(r.markdown().find("one traced bounce"), std::string::npos);
+    opt.traced_samples = -1;
+    EXPECT_THROW(evaluate_directional(m, dir, opt), Error);
+}

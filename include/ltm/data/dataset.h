@@ -12,6 +12,7 @@
 #include "ltm/core/json_util.h"
 #include "ltm/core/math.h"
 #include "ltm/points/scene_record.h"
+#include "ltm/scene/scene.h"
 
 namespace ltm {
 
@@ -54,6 +55,11 @@ struct BuildOptions {
 /// Builds every missing record (skips existing files), then rewrites out_dir/manifest.json
 /// from the records present. Progress with ETA on stderr.
 void build_dataset(const BuildOptions &opt);
+
+/// The scene a record was baked from, regenerated from its metadata (preset's generator config,
+/// seed). Throws ltm::Error naming the record when the generator version differs or the
+/// regenerated scene is not the record's.
+Scene regenerate_scene(const SceneRecord &record);
 
 /// Adds `emission_scale` to the records of `dir` built before it existed: regenerates each scene
 /// from its metadata (preset, seed; the generator version must match) and computes S = Φ/A as a

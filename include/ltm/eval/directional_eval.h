@@ -3,7 +3,8 @@
 // whole hemispheres of query points spread over each record: the head's bins (predicted at bin
 // centres), the best SH fit of degree l = 0..l_max to the reference bins (render/
 // spherical_harmonics.h: no SH of that degree is closer in the bins' metric, the plain
-// projection included), and the floor of a uniform radiance with the reference's cosine integral.
+// projection included), the floor of a uniform radiance with the reference's cosine integral, and
+// optionally the directional transport prior alone and one traced bounce into the model's Ê⁺.
 #pragma once
 
 #include <string>
@@ -22,6 +23,10 @@ struct DirectionalEvalOptions {
     /// R of the directional transport prior's row (radiance_scale with R×R cells; 0 = no row;
     /// needs a model with the transport prior).
     int prior_cells = 8;
+    /// Samples per bin of a row for one traced bounce into the model's Ê⁺ (infer/traced_bounce.h:
+    /// what `ltm render --glossy trace` shades conductors with; ray traced, not a decoder). Each
+    /// record's scene is regenerated from its metadata. 0 = no row.
+    int traced_samples = 0;
 };
 
 /// Errors are relative: Σ(x − L)² / Σ L² over every bin of every evaluated point.
@@ -35,6 +40,11 @@ struct DirectionalEvalResult {
     /// The directional transport prior alone (prior_cells × prior_cells cells; -1 when not evaluated).
     double prior = -1;
     int prior_cells = 0;
+    /// One traced bounce (traced_samples per bin; -1 when not evaluated), and the points where it
+    /// is closer than the SH fit of each degree.
+    double traced = -1;
+    int traced_samples = 0;
+    std::vector<int> traced_beats_sh;
     std::vector<double> sh;              ///< [l_max + 1] best SH fit of degree l
     /// Points where the head's error is below the SH fit's, per degree (out of `points`).
     std::vector<int> head_beats_sh;

@@ -1,0 +1,39 @@
+// traced_bounce.h: one traced bounce into a model's irradiance field — the incident radiance L⁺
+// along any ray from a surface point, resolved as finely as the scene's geometry (issue #11).
+//
+// The radiance arriving at x from direction ω (emitters seen directly excluded) is what leaves
+// the surface y = hit(x, ω) towards x without y's emission. For a Lambertian y that is
+//     L⁺(x, ω) = ρ(y)/π · (E_direct(y) + E⁺(y)),
+// E_direct traced (shadow rays), E⁺ from the model's irradiance head: the neural render's own
+// diffuse shading, one vertex further down the path. A conductor y is path traced on (its
+// outgoing radiance is itself directional), a miss contributes 0. The renderer shades
+// conductors with it (GlossyShading::trace) and eval-directional compares it with the head and SH.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "ltm/nn/ltm_model.h"
+#include "ltm/render/direct_light.h"
+#include "ltm/render/path_tracer.h"
+
+namespace ltm {
+
+/// E_direct at a surface point (p, unit normal n on the side the light is wanted), random stream `key`.
+using DirectIrradianceFn = std::function<Vec3f(Vec3f p, Vec3f n, uint64_t key)>;
+
+/// The ratio estimator when `ratio` is given, else the path tracer's MIS estimator; spp light
+/// samples per call.
+DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectLight *ratio, int spp);
+
+/// L⁺ along n rays (origin offset off a surface, unit direction; a zero direction: the row is
+/// skipped and gets 0), for a scene encoded into `latents` and traced by `pt` (the same scene).
+/// keys[i]: row i's random stream (direct light at its hit, the path beyond a conductor).
+/// Ê⁺ of every diffuse hit is decoded in one batch in row order. -> [n] radiance (W/m²/sr per
+/// channel). Deterministic at any thread count.
+std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &latents, const PathTracer &pt,
+                                          const std::vector<Ray> &rays, const std::vector<uint64_t> &keys,
+                                          const DirectIrradianceFn &direct);
+
+}  // namespace ltm

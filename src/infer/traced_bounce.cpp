@@ -1,0 +1,62 @@
+// traced_bounce.cpp: trace in parallel, then decode Ê⁺ at the diffuse hits in one batch.
+#include "ltm/infer/traced_bounce.h"
+
+#include "ltm/core/error.h"
+#include "ltm/core/parallel.h"
+#include "ltm/core/rng.h"
+#include "ltm/nn/point_tensor.h"
+#include "ltm/render/interaction.h"
+
+namespace ltm {
+
+DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectLight *ratio, int spp) {
+    if (spp < 1) LTM_THROW("traced bounce: light samples must be >= 1, got ", spp);
+    if (ratio) return [ratio, spp](Vec3f p, Vec3f n, uint64_t key) { return ratio->irradiance(p, n, key, spp); };
+    return [&pt, spp](Vec3f p, Vec3f n, uint64_t key) { return pt.irradiance(p, n, key, spp, /*with_indirect=*/false).direct; };
+}
+
+std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &latents, const PathTracer &pt,
+                                          const std::vector<Ray> &rays, const std::vector<uint64_t> &keys,
+                                          const DirectIrradianceFn &direct) {
+    LTM_CHECK_EQ(rays.size(), keys.size());
+    const Scene &scene = pt.accel().scene();
+    const size_t n = rays.size();
+    std::vector<Vec3f> radiance(n, Vec3f(0.f));
+    std::vector<float> query(n * 9);   // a diffuse hit's (p, n facing the ray, ρ): query_point_columns()
+    std::vector<uint8_t> diffuse_hit(n, 0);
+    parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const Ray &ray = rays[size_t(i)];
+            if (ray.d == Vec3f(0.f)) continue;
+            const auto hit = pt.accel().intersect(ray);
+            if (!hit) continue;
+            const SurfaceInteraction y = make_interaction(scene, ray, *hit);
+            if (y.material->bsdf == BsdfKind::diffuse) {
+                const Vec3f ny = y.front ? y.n : -y.n, rho = y.albedo();
+                radiance[size_t(i)] = rho * k_inv_pi * direct(y.p, ny, keys[size_t(i)]);
+                const Vec3f cols[3] = {y.p, ny, rho};
+                for (size_t c = 0; c < 3; ++c)
+                    for (size_t a = 0; a < 3; ++a) query[size_t(i) * 9 + c * 3 + a] = cols[c][int(a)];
+                diffuse_hit[size_t(i)] = 1;
+            } else {
+                // y scatters first, then up to max_depth more events, as a camera path at a conductor.
+                Pcg32 rng(pt.stream_key(keys[size_t(i)], 0));
+                radiance[size_t(i)] = pt.reflected_radiance(y, -ray.d, pt.config().max_depth, rng);
+            }
+        }
+    });
+    std::vector<size_t> at;
+    std::vector<float> q;
+    for (size_t i = 0; i < n; ++i)
+        if (diffuse_hit[i]) at.push_back(i), q.insert(q.end(), query.begin() + std::ptrdiff_t(i * 9), query.begin() + std::ptrdiff_t(i * 9 + 9));
+    if (at.empty()) return radiance;
+    const auto e = model->predict_irradiance(rows_tensor(q, 9), latents, 16384).contiguous();
+    const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
+    for (size_t k = 0; k < at.size(); ++k) {
+        const float *row = &q[k * 9];
+        radiance[at[k]] += Vec3f(row[6], row[7], row[8]) * k_inv_pi * ep[k];
+    }
+    return radiance;
+}
+
+}  // namespace ltm
