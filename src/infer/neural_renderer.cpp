@@ -8,9 +8,9 @@
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/rng.h"
+#include "ltm/infer/traced_bounce.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
-#include "ltm/infer/traced_bounce.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/scene_points.h"
 
@@ -150,7 +150,7 @@ namespace {
 constexpr uint64_t k_conductor_direct = 0x6c055ull << 40, k_conductor_lobe = 0x9105ull << 40,
                    k_conductor_bounce = 0x7ace5ull << 40;
 
-// Conductor pixels' GGX samples: rows h·K + j for conductor hit h (gb.hits[h]) and sample j.
+// Conductor pixels' GGX samples: rows h·K + j for conductor hit h (G-buffer hit c.hits[h]) and sample j.
 struct ConductorSamples {
     int K = 0;
     std::vector<size_t> hits;    // [H] G-buffer hits on conductors
@@ -222,7 +222,7 @@ std::vector<Vec3f> traced_radiance(LtmModel &model, const EncodedScene &enc, con
     std::vector<uint64_t> keys(rows);
     for (size_t row = 0; row < rows; ++row) {
         const size_t k = c.hits[row / K];
-        keys[row] = k_conductor_bounce | (uint64_t(gb.hit_pixels[k]) * K + row % K);
+        keys[row] = hash_keys({k_conductor_bounce, uint64_t(gb.hit_pixels[k]), uint64_t(row % K)});
         if (c.weight[row] != Vec3f(0.f)) rays[row] = Ray{offset_ray_origin(gb.position[k], gb.normal[k], c.dir[row]), c.dir[row]};
     }
     return traced_bounce_radiance(model, enc.latents, pt, rays, keys, direct);
