@@ -91,7 +91,7 @@ struct NeuralRenderArgs {
     bool exclude_enclosed = true;
     int gi_stride = 1;   ///< decode Ê⁺ on every gi_stride-th pixel and interpolate (render/gi_upsample.h)
     std::string direct_estimator = "auto";   ///< mis | ratio | auto (infer/neural_renderer.h)
-    int glossy_samples = 16;   ///< GGX samples per conductor pixel
+    int glossy_samples = 0;    ///< GGX samples per conductor pixel (0: automatic)
     std::string glossy = "auto";   ///< conductor shading: auto | trace | head | diffuse (GlossyShading)
 };
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);

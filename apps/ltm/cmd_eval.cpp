@@ -26,7 +26,7 @@ struct EvalArgs {
     EvalOptions opt;
     PhysicsCheckOptions physics;
     bool no_grids = false, run_physics = false, physics_only = false, radiance = false;
-    int direct_spp = 16, glossy_samples = 16;
+    int direct_spp = 16, glossy_samples = 0;
 };
 
 void declare(CLI::App &sub, EvalArgs &a) {
@@ -64,9 +64,10 @@ void declare(CLI::App &sub, EvalArgs &a) {
     sub.add_option("--direct-spp", a.direct_spp, "--radiance: the neural render's light samples per pixel")
         ->capture_default_str()
         ->check(CLI::Range(1, 1 << 16));
-    sub.add_option("--glossy-samples", a.glossy_samples, "--radiance: the neural render's GGX samples per conductor pixel")
+    sub.add_option("--glossy-samples", a.glossy_samples,
+                   "--radiance: the neural render's GGX samples per conductor pixel (0: 64 traced, 16 through the head)")
         ->capture_default_str()
-        ->check(CLI::Range(1, 1 << 16));
+        ->check(CLI::Range(0, 1 << 16));
     add_output_option(sub, a.output, "Output directory");
 }
 

@@ -20,7 +20,7 @@ namespace ltm::cli {
 namespace {
 struct RenderArgs {
     std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto", glossy = "auto";
-    int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024, guide_resolution = 16, glossy_samples = 16;
+    int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024, guide_resolution = 16, glossy_samples = 0;
     float exposure = 1.f, guide_alpha = 0.25f;
 };
 
@@ -41,9 +41,10 @@ void declare(CLI::App &sub, RenderArgs &a) {
                    "directional head's L_in+ (paper Fig. 11), diffuse = shaded as diffuse")
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "trace", "head", "diffuse"}));
-    sub.add_option("--glossy-samples", a.glossy_samples, "GGX samples per conductor pixel (neural; --glossy trace or head)")
+    sub.add_option("--glossy-samples", a.glossy_samples,
+                   "GGX samples per conductor pixel (neural; 0: 64 with --glossy trace, 16 with head)")
         ->capture_default_str()
-        ->check(CLI::Range(1, 4096));
+        ->check(CLI::Range(0, 4096));
     sub.add_option("--guide-points", a.guide_points, "Surface points whose L_in bins the head predicts (guided)")
         ->capture_default_str()
         ->check(CLI::Range(9, 1 << 20));

@@ -34,7 +34,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
         log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (--glossy diffuse)");
     else if (r.n_conductor > 0)
         log_info(r.n_conductor, " conductor pixels shaded by ", r.glossy == GlossyShading::head ? "the directional head" : "one traced bounce",
-                 " (", a.glossy_samples, " GGX samples each) in ", format_duration(r.timings.glossy));
+                 " (", r.glossy_samples, " GGX samples each) in ", format_duration(r.timings.glossy));
     write_rendered_image(r.image, a.prefix, a.exposure);
     write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
     const auto &t = r.timings;
@@ -50,6 +50,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"direct_estimator", direct_estimator_name(r.direct)},
                      {"conductor_pixels", r.n_conductor},
                      {"glossy", glossy_shading_name(r.glossy)},
+                     {"glossy_samples", r.glossy_samples},
                      {"threads", common.threads},
                      {"timings", t.to_json()}};
     write_file_atomic(a.prefix + ".timings.json", j.dump(2) + "\n");

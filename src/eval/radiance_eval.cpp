@@ -34,7 +34,7 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
     const EvalOptions &o = opt.base;
     if (o.views < 1) LTM_THROW("eval: views must be >= 1, got ", o.views);
     if (o.ref_spp < 1 || o.baseline_spp < 1 || opt.direct_spp < 1) LTM_THROW("eval: samples per pixel must be >= 1");
-    if (opt.glossy_samples < 1) LTM_THROW("eval: glossy samples per pixel must be >= 1, got ", opt.glossy_samples);
+    if (opt.glossy_samples < 0) LTM_THROW("eval: glossy samples per pixel must be >= 0 (0: automatic), got ", opt.glossy_samples);
     RadianceEvalReport report;
     for (EvalReport *r : {&report.all, &report.conductors}) {
         r->options = o;

@@ -159,10 +159,10 @@ struct ConductorSamples {
     std::vector<Vec3f> dir;      // [H·K] ω_k, world space, on the facing normal's side
 };
 
-ConductorSamples sample_conductors(const PathTracer &pt, const Camera &camera, const GBuffer &gb, const NeuralRenderOptions &opt) {
+ConductorSamples sample_conductors(const PathTracer &pt, const Camera &camera, const GBuffer &gb, const NeuralRenderOptions &opt, int samples) {
     const Scene &scene = pt.accel().scene();
     ConductorSamples c;
-    c.K = opt.glossy_samples;
+    c.K = samples;
     for (size_t k = 0; k < gb.n_hits(); ++k)
         if (!gb.diffuse[k]) c.hits.push_back(k);
     const size_t K = size_t(c.K);
@@ -242,6 +242,7 @@ void compose_conductors(const GBuffer &gb, const ConductorSamples &c, const std:
 
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt) {
     if (opt.direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", opt.direct_spp);
+    if (opt.glossy_samples < 0) LTM_THROW("neural render: glossy samples per pixel must be >= 0 (0: automatic), got ", opt.glossy_samples);
     NeuralRender r;
     const auto t0 = Clock::now();
     const EncodedScene enc = encode_scene(model, pt.accel(), opt.seed, opt.exclude_enclosed);
@@ -266,14 +267,17 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     if (glossy == GlossyShading::head && !model->directional)
         LTM_THROW("neural render: --glossy head needs a directional head, and these weights have none (use trace or diffuse)");
     if (r.n_conductor > 0 && glossy != GlossyShading::diffuse) {
-        if (opt.glossy_samples < 1) LTM_THROW("neural render: glossy samples per pixel must be >= 1, got ", opt.glossy_samples);
+        // 0: 64 traced samples (cheap: a ray, light samples, one fused Ê⁺ decode each), 16 through the
+        // head (a libtorch decode each, ~10× a traced sample).
+        const int K = opt.glossy_samples > 0 ? opt.glossy_samples : glossy == GlossyShading::head ? 16 : 64;
         const auto tg = Clock::now();
-        const ConductorSamples c = sample_conductors(pt, camera, gb, opt);
+        const ConductorSamples c = sample_conductors(pt, camera, gb, opt, K);
+        r.glossy_samples = K;
         if (glossy == GlossyShading::head) {
             compose_conductors(gb, c, head_radiance(model, enc, gb, c), r.image);
         } else {
             // Light samples per bounce hit: the pixel's budget spread over its K samples.
-            const int spp = (opt.direct_spp + opt.glossy_samples - 1) / opt.glossy_samples;
+            const int spp = (opt.direct_spp + K - 1) / K;
             compose_conductors(gb, c, traced_radiance(model, enc, pt, gb, c, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, spp)),
                                r.image);
         }

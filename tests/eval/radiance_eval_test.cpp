@@ -82,6 +82,6 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
     EXPECT_NE(md.find("| model:tiny/head-conductors |"), std::string::npos);
     // Bad options are refused with the reason.
     RadianceEvalOptions bad = opt;
-    bad.glossy_samples = 0;
+    bad.glossy_samples = -1;
     EXPECT_THROW(run_radiance_evaluation({{"room", scene}}, models, bad), Error);
 }

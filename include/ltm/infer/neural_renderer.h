@@ -84,6 +84,7 @@ struct NeuralRender {
     int64_t n_decoded = 0;   ///< queries the decoder ran on (n_queries unless gi.stride > 1)
     int64_t n_scene_points = 0, n_conductor = 0;
     GlossyShading glossy = GlossyShading::diffuse;   ///< how conductor pixels were shaded (diffuse if none is seen)
+    int glossy_samples = 0;                          ///< GGX samples per conductor pixel used (0: none)
     DirectEstimator direct = DirectEstimator::mis;   ///< the estimator that was used
 };
 struct NeuralRenderOptions {
@@ -94,10 +95,10 @@ struct NeuralRenderOptions {
     GiUpsampleOptions gi{1};        ///< stride 1: Ê⁺ decoded at every pixel
     /// Conductor pixels (GlossyShading): direct light by the path tracer's NEE + BSDF sampling
     /// with MIS (direct_spp samples), the indirect part ∫ f L⁺ cos dω by glossy_samples GGX
-    /// samples. `head` without a directional head throws. With `trace`, each sample's hit gets
-    /// ⌈direct_spp / glossy_samples⌉ light samples.
+    /// samples (0: 64 traced, 16 through the head). `head` without a directional head throws.
+    /// With `trace`, each sample's hit gets ⌈direct_spp / glossy_samples⌉ light samples.
     GlossyShading glossy = GlossyShading::automatic;
-    int glossy_samples = 16;
+    int glossy_samples = 0;
 };
 /// The whole neural render of one view.
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);
