@@ -34,7 +34,7 @@ Image render_direct_only(const PathTracer &pt, const Camera &cam, int spp) {
                 Vec3f color(0.f);
                 for (int s = 0; s < spp; ++s) {
                     const uint64_t key = pt.stream_key(0xd1ec7ull << 40 | pixel, uint64_t(s));
-                    Pcg32 rng(key);
+                    Pcg32 rng(key ^ 0x9e3779b97f4a7c15ull);   // not irradiance_sample's own stream: jitter and light samples independent
                     const float jx = spp == 1 ? 0.5f : rng.next_float(), jy = spp == 1 ? 0.5f : rng.next_float();
                     const Ray ray{cam.eye, cam.ray_direction(float(x) + jx, float(y) + jy)};
                     const auto hit = pt.accel().intersect(ray);

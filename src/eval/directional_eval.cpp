@@ -13,6 +13,7 @@
 #include "ltm/data/dataset.h"
 #include "ltm/infer/traced_bounce.h"
 #include "ltm/points/scene_record.h"
+#include "ltm/render/bake.h"
 #include "ltm/render/embree_accel.h"
 #include "ltm/render/hemisphere_bins.h"
 #include "ltm/render/spherical_harmonics.h"
@@ -22,38 +23,46 @@ namespace ltm {
 namespace {
 // Every bin of every point: the mean of S one-traced-bounce samples uniform over the bin's square
 // (equal projected solid angle: the measure of the reference bins' cosine-weighted samples), in
-// the record's regenerated scene, one light sample per hit.  -> [points·R²]
+// the record's regenerated scene (its query points checked to lie on it), one light sample per
+// hit; emitters seen directly count when the bins hold L_in (with_emission). Traced in chunks of
+// whole points (≤ ~1 M rows at a time).  -> [points·R²]
 std::vector<Vec3f> traced_bins(LtmModel &model, const SceneLatents &lat, const SceneRecord &r, const std::vector<int64_t> &pts,
-                               int R, int S) {
+                               int R, int S, bool with_emission) {
     const Scene scene = regenerate_scene(r);
     const EmbreeAccel accel(scene);
+    check_points_match_scene(accel, r.query_points, r.path + " (regenerated for --traced)");
     PathTracerConfig cfg;
     cfg.seed = hash_keys({r.seed, 0x7ace5ull});
     cfg.max_depth = r.metadata.at("preset").value("max_depth", cfg.max_depth);
     const PathTracer pt(accel, cfg);
     std::optional<RatioDirectLight> ratio;
     if (RatioDirectLight::supports(scene)) ratio.emplace(accel, cfg.seed);
-    const size_t nb = size_t(R) * size_t(R), s_n = size_t(S), rows = pts.size() * nb * s_n;
-    std::vector<Ray> rays(rows);
-    std::vector<uint64_t> keys(rows);
-    for (size_t j = 0; j < pts.size(); ++j) {
-        const size_t q = size_t(pts[j]);
-        const Vec3f p(r.query_points.at(q, 0), r.query_points.at(q, 1), r.query_points.at(q, 2));
-        const Vec3f n = normalize(Vec3f(r.query_points.at(q, 3), r.query_points.at(q, 4), r.query_points.at(q, 5)));
-        const Frame frame(n);
-        for (size_t b = 0; b < nb; ++b) {
-            Pcg32 rng(hash_keys({cfg.seed, q, b}));
-            for (size_t s = 0; s < s_n; ++s) {
-                const size_t row = (j * nb + b) * s_n + s;
-                const Vec3f w = normalize(frame.to_world(square_to_direction(bin_to_square(int(b), R, {rng.next_float(), rng.next_float()}))));
-                rays[row] = Ray{offset_ray_origin(p, n, w), w};
-                keys[row] = (q * nb + b) * s_n + s;
+    const DirectIrradianceFn direct = direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, 1);
+    const size_t nb = size_t(R) * size_t(R), s_n = size_t(S), per_point = nb * s_n;
+    const size_t chunk = std::max<size_t>(1, (size_t(1) << 20) / per_point);
+    std::vector<Vec3f> bins(pts.size() * nb, Vec3f(0.f));
+    for (size_t j0 = 0; j0 < pts.size(); j0 += chunk) {
+        const size_t j1 = std::min(pts.size(), j0 + chunk), rows = (j1 - j0) * per_point;
+        std::vector<Ray> rays(rows);
+        std::vector<uint64_t> keys(rows);
+        for (size_t j = j0; j < j1; ++j) {
+            const size_t q = size_t(pts[j]);
+            const Vec3f p(r.query_points.at(q, 0), r.query_points.at(q, 1), r.query_points.at(q, 2));
+            const Vec3f n = normalize(Vec3f(r.query_points.at(q, 3), r.query_points.at(q, 4), r.query_points.at(q, 5)));
+            const Frame frame(n);
+            for (size_t b = 0; b < nb; ++b) {
+                Pcg32 rng(hash_keys({cfg.seed, q, b}));
+                for (size_t s = 0; s < s_n; ++s) {
+                    const size_t row = ((j - j0) * nb + b) * s_n + s;
+                    const Vec3f w = normalize(frame.to_world(square_to_direction(bin_to_square(int(b), R, {rng.next_float(), rng.next_float()}))));
+                    rays[row] = Ray{offset_ray_origin(p, n, w), w};
+                    keys[row] = (q * nb + b) * s_n + s;
+                }
             }
         }
+        const std::vector<Vec3f> l = traced_bounce_radiance(model, lat, pt, rays, keys, direct, with_emission);
+        for (size_t row = 0; row < rows; ++row) bins[j0 * nb + row / s_n] += l[row] / float(S);
     }
-    const std::vector<Vec3f> l = traced_bounce_radiance(model, lat, pt, rays, keys, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, 1));
-    std::vector<Vec3f> bins(pts.size() * nb, Vec3f(0.f));
-    for (size_t row = 0; row < rows; ++row) bins[row / s_n] += l[row] / float(S);
     return bins;
 }
 
@@ -110,7 +119,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
         if (with_prior)
             prior_l = radiance_scale(rows_tensor(hemi.query, 9), rows_tensor(hemi.direction, 3), lat.norm, opt.prior_cells).contiguous();
         std::vector<Vec3f> traced;   // one traced bounce's bins, [P·R²]
-        if (with_traced) traced = traced_bins(model, lat, r, pts, R, opt.traced_samples);
+        if (with_traced) traced = traced_bins(model, lat, r, pts, R, opt.traced_samples, /*with_emission=*/!indirect);
         for (int64_t j = 0; j < np; ++j) {
             const size_t q = size_t(pts[size_t(j)]);
             const std::vector<Vec3f> ref(reinterpret_cast<const Vec3f *>(r.l_in.data()) + q * size_t(nb),

@@ -17,7 +17,7 @@ DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectL
 
 std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &latents, const PathTracer &pt,
                                           const std::vector<Ray> &rays, const std::vector<uint64_t> &keys,
-                                          const DirectIrradianceFn &direct) {
+                                          const DirectIrradianceFn &direct, bool with_emission) {
     LTM_CHECK_EQ(rays.size(), keys.size());
     const Scene &scene = pt.accel().scene();
     const size_t n = rays.size();
@@ -31,9 +31,10 @@ std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &l
             const auto hit = pt.accel().intersect(ray);
             if (!hit) continue;
             const SurfaceInteraction y = make_interaction(scene, ray, *hit);
+            if (with_emission) radiance[size_t(i)] += y.emitted();
             if (y.material->bsdf == BsdfKind::diffuse) {
                 const Vec3f ny = y.front ? y.n : -y.n, rho = y.albedo();
-                radiance[size_t(i)] = rho * k_inv_pi * direct(y.p, ny, keys[size_t(i)]);
+                radiance[size_t(i)] += rho * k_inv_pi * direct(y.p, ny, keys[size_t(i)]);
                 const Vec3f cols[3] = {y.p, ny, rho};
                 for (size_t c = 0; c < 3; ++c)
                     for (size_t a = 0; a < 3; ++a) query[size_t(i) * 9 + c * 3 + a] = cols[c][int(a)];
@@ -41,7 +42,7 @@ std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &l
             } else {
                 // y scatters first, then up to max_depth more events, as a camera path at a conductor.
                 Pcg32 rng(pt.stream_key(keys[size_t(i)], 0));
-                radiance[size_t(i)] = pt.reflected_radiance(y, -ray.d, pt.config().max_depth, rng);
+                radiance[size_t(i)] += pt.reflected_radiance(y, -ray.d, pt.config().max_depth, rng);
             }
         }
     });

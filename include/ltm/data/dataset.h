@@ -56,9 +56,11 @@ struct BuildOptions {
 /// from the records present. Progress with ETA on stderr.
 void build_dataset(const BuildOptions &opt);
 
-/// The scene a record was baked from, regenerated from its metadata (preset's generator config,
-/// seed). Throws ltm::Error naming the record when the generator version differs or the
-/// regenerated scene is not the record's.
+/// The scene a record was baked from, regenerated from its metadata (the preset's generator config,
+/// read from its path as recorded, relative to the working directory; the seed). Throws
+/// ltm::Error naming the record when the generator version or the scene's name differs; an edited
+/// config file is not detected here (check_points_match_scene in render/bake.h catches a moved
+/// surface).
 Scene regenerate_scene(const SceneRecord &record);
 
 /// Adds `emission_scale` to the records of `dir` built before it existed: regenerates each scene

@@ -29,11 +29,12 @@ DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectL
 
 /// L⁺ along n rays (origin offset off a surface, unit direction; a zero direction: the row is
 /// skipped and gets 0), for a scene encoded into `latents` and traced by `pt` (the same scene).
+/// with_emission: L_in instead, the hit surface's emission towards the ray's origin added.
 /// keys[i]: row i's random stream (direct light at its hit, the path beyond a conductor).
 /// Ê⁺ of every diffuse hit is decoded in one batch in row order. -> [n] radiance (W/m²/sr per
 /// channel). Deterministic at any thread count.
 std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &latents, const PathTracer &pt,
                                           const std::vector<Ray> &rays, const std::vector<uint64_t> &keys,
-                                          const DirectIrradianceFn &direct);
+                                          const DirectIrradianceFn &direct, bool with_emission = false);
 
 }  // namespace ltm
