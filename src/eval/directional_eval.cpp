@@ -8,10 +8,10 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
-#include "ltm/nn/point_tensor.h"
 #include "ltm/core/rng.h"
 #include "ltm/data/dataset.h"
 #include "ltm/infer/traced_bounce.h"
+#include "ltm/nn/point_tensor.h"
 #include "ltm/points/scene_record.h"
 #include "ltm/render/bake.h"
 #include "ltm/render/embree_accel.h"
@@ -93,8 +93,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
     if (opt.traced_samples < 0) LTM_THROW("directional eval: traced samples per bin must be >= 0, got ", opt.traced_samples);
     const bool with_traced = opt.traced_samples > 0;
     if (with_traced) res.traced_beats_sh.assign(size_t(opt.l_max + 1), 0);
-    double traced_err = 0;
-    double ref2 = 0, prior_err = 0, gap_m = 0, gap_r = 0, e_model_sum = 0, e_ref_sum = 0, seconds = 0;
+    double ref2 = 0, prior_err = 0, traced_err = 0, gap_m = 0, gap_r = 0, e_model_sum = 0, e_ref_sum = 0, seconds = 0;
     std::vector<std::vector<Vec3f>> tile_rows;   // per tiled point: ref, head, SH 2, SH l_max
     for (const std::string &path : paths) {
         const SceneRecord r = read_record(path);

@@ -67,12 +67,7 @@ std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const 
     float *qp = q.data_ptr<float>();
     for (int64_t k = 0; k < n; ++k) {
         const size_t h = hits ? (*hits)[size_t(k)] : size_t(k);
-        const Vec3f *cols[3] = {&gb.position[h], &gb.normal[h], &gb.albedo[h]};
-        for (int c = 0; c < 3; ++c) {
-            qp[k * 9 + c * 3 + 0] = cols[c]->x;
-            qp[k * 9 + c * 3 + 1] = cols[c]->y;
-            qp[k * 9 + c * 3 + 2] = cols[c]->z;
-        }
+        write_query_row(qp + k * 9, gb.position[h], gb.normal[h], gb.albedo[h]);
     }
     PredictTimings t;
     const auto e = model->predict_irradiance(q, enc.latents, 16384, &t).contiguous();
@@ -204,10 +199,8 @@ std::vector<Vec3f> head_radiance(LtmModel &model, const EncodedScene &enc, const
     std::vector<float> q(rows * 9), d(rows * 3);
     for (size_t row = 0; row < rows; ++row) {
         const size_t k = c.hits[row / K];
-        const Vec3f cols[4] = {gb.position[k], gb.normal[k], gb.albedo[k], c.dir[row]};
-        for (int col = 0; col < 3; ++col)
-            for (int a = 0; a < 3; ++a) q[row * 9 + size_t(col) * 3 + size_t(a)] = cols[col][a];
-        for (int a = 0; a < 3; ++a) d[row * 3 + size_t(a)] = cols[3][a];
+        write_query_row(&q[row * 9], gb.position[k], gb.normal[k], gb.albedo[k]);
+        for (int a = 0; a < 3; ++a) d[row * 3 + size_t(a)] = c.dir[row][a];
     }
     const auto l = model->predict_radiance(rows_tensor(q, 9), rows_tensor(d, 3), enc.latents).contiguous();
     const Vec3f *lp = reinterpret_cast<const Vec3f *>(l.data_ptr<float>());

@@ -35,9 +35,7 @@ std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &l
             if (y.material->bsdf == BsdfKind::diffuse) {
                 const Vec3f ny = y.front ? y.n : -y.n, rho = y.albedo();
                 radiance[size_t(i)] += rho * k_inv_pi * direct(y.p, ny, keys[size_t(i)]);
-                const Vec3f cols[3] = {y.p, ny, rho};
-                for (size_t c = 0; c < 3; ++c)
-                    for (size_t a = 0; a < 3; ++a) query[size_t(i) * 9 + c * 3 + a] = cols[c][int(a)];
+                write_query_row(&query[size_t(i) * 9], y.p, ny, rho);
                 diffuse_hit[size_t(i)] = 1;
             } else {
                 // y scatters first, then up to max_depth more events, as a camera path at a conductor.

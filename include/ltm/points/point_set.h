@@ -13,6 +13,12 @@ namespace ltm {
 const std::vector<std::string> &scene_point_columns();
 /// Column layout of query points: p, n, albedo.
 const std::vector<std::string> &query_point_columns();
+/// Writes one query point in that layout: row[0..9) = p, n, albedo.
+inline void write_query_row(float *row, Vec3f p, Vec3f n, Vec3f albedo) {
+    const Vec3f cols[3] = {p, n, albedo};
+    for (int c = 0; c < 3; ++c)
+        for (int a = 0; a < 3; ++a) row[c * 3 + a] = cols[c][a];
+}
 
 struct PointSet {
     std::vector<std::string> columns;   ///< property names, e.g. "x", "albedo_r"
