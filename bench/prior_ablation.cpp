@@ -3,7 +3,8 @@
 // setting: MSE and SSIM of the views (eval/metrics.h, as `ltm eval` computes them), views that
 // beat the flat oracle, level ratios in [0.8, 1.25], and the solve time. References come from the
 // same cache as `ltm eval --ref-cache` (identical key: scene, camera, spp and tracer seed), so
-//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]] ...]
+//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]] ...]
+// (or scene files and builtin:NAME, comma-separated, in place of the seed range)
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
 // With PRIOR_ABLATION_PNG=DIR set, each view is also written as DIR/seed-N.png: reference | each
 // setting, tone mapped by the reference (eval/metrics.h) and enlarged 3×.
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,7 @@
 #include "ltm/eval/reference_cache.h"
 #include "ltm/points/transport_prior.h"
 #include "ltm/procgen/indoor_generator.h"
+#include "ltm/scene/scene_loader.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/scene_points.h"
 
@@ -42,6 +45,7 @@ struct Setting {
     int bounces;            ///< D (default 8, as cpu-tp.json until v0.8; v0.9 uses 5)
     int blend;              ///< VisibilityOptions::blend (default 1)
     bool patches;           ///< the near field by square patches (solve_transport_prior's `patches`)
+    int open_rays;          ///< VisibilityOptions::open_rays (rays per side; 0 = closed rows)
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
@@ -57,7 +61,24 @@ int main(int argc, char **argv) {
     configure_process();
     set_log_level(LogLevel::quiet);
     const std::string range = argv[1];
-    const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
+    // Scenes: a seed range A:B of generated houses, or scene files (and builtin:NAME) separated by commas.
+    std::vector<std::pair<std::string, std::string>> scene_list;   // (name, path; empty path: a seed)
+    if (range.find_first_not_of("0123456789:") == std::string::npos) {
+        const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
+        for (uint64_t seed = lo; seed < hi; ++seed) scene_list.emplace_back("seed-" + std::to_string(seed), "");
+    } else {
+        for (size_t b = 0; b <= range.size();) {
+            const size_t e = std::min(range.find(',', b), range.size());
+            const std::string path = range.substr(b, e - b);
+            const std::filesystem::path fp(path);
+            // rooms that each ship scene-v4.pbrt are named by their folder
+            std::string name = path.rfind("builtin:", 0) == 0 ? "builtin-" + path.substr(8)
+                               : fp.stem() == "scene-v4" || fp.stem() == "scene" ? fp.parent_path().filename().string()
+                                                                                 : fp.stem().string();
+            scene_list.emplace_back(name, path);
+            b = e + 1;
+        }
+    }
     const std::string cache = argv[2];
     const int size = argc > 3 ? std::atoi(argv[3]) : 64, ref_spp = argc > 4 ? std::atoi(argv[4]) : 256;
     // Settings from the command line (fields below), else a default sweep.
@@ -71,25 +92,26 @@ int main(int argc, char **argv) {
         // disc radius (points/disc_occluder.h; 0 = voxels), lengths in spacings; the power balance
         // B (PriorBalance: 0 per channel, 1 grey, 2 none), the bounces K (0 = 8) and the clusters a
         // receiver's visibility blends L (VisibilityOptions::blend; 0 = 1); P = 1: the near field
-        // by square patches (points/patch_form_factor.h).
+        // by square patches (points/patch_form_factor.h); O > 0: rows sum to each receiver's closure
+        // from O × O rays per cluster centre (VisibilityOptions::open_rays).
         std::vector<float> f;
         for (size_t b = 0; b <= n.size();) {
             const size_t e = std::min(n.find(':', b), n.size());
             f.push_back(std::stof(n.substr(b, e - b)));
             b = e + 1;
         }
-        if (f.size() < 2 || f.size() > 9 || (f.size() > 5 && !(f[5] == 0.f || f[5] == 1.f || f[5] == 2.f))) {
-            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]]\n", n.c_str());
+        if (f.size() < 2 || f.size() > 10 || (f.size() > 5 && !(f[5] == 0.f || f[5] == 1.f || f[5] == 2.f))) {
+            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]]\n", n.c_str());
             return 1;
         }
-        f.resize(9, 0.f);
+        f.resize(10, 0.f);
         settings.push_back({n, f[0], int(f[1]), f[2], f[3] > 0.f ? f[3] : 1.f, f[4], PriorBalance(int(f[5])), f[6] > 0.f ? int(f[6]) : 8,
-                            f[7] > 0.f ? int(f[7]) : 1, f[8] > 0.f});
+                            f[7] > 0.f ? int(f[7]) : 1, f[8] > 0.f, int(f[9])});
     }
     std::vector<Sums> sums(settings.size());
     try {
-        for (uint64_t seed = lo; seed < hi; ++seed) {
-            const Scene scene = generate_indoor(GenConfig{}, seed).scene;
+        for (const auto &[name, path] : scene_list) {
+            const Scene scene = path.empty() ? generate_indoor(GenConfig{}, std::stoull(name.substr(5))).scene : load_scene(path);
             const EmbreeAccel accel(scene);
             // The eval's camera and reference tracer (eval/experiment.cpp: view 0 of 1, role 1).
             const Camera cam = eval_view_camera(scene, 0, 1, size, size);
@@ -98,7 +120,7 @@ int main(int argc, char **argv) {
             const GBuffer gb = render_gbuffer(accel, cam);
             if (gb.n_hits() == 0) continue;
             bool cached = false;
-            const Image ref = reference_irradiance(cache, scene, cam, gb, pt, cfg, ref_spp, {{"scene", "seed-" + std::to_string(seed)}}, &cached)
+            const Image ref = reference_irradiance(cache, scene, cam, gb, pt, cfg, ref_spp, {{"scene", name}}, &cached)
                                   .indirect;
             const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
             const Color3d mc = mean_color(ref_hits);
@@ -116,6 +138,7 @@ int main(int argc, char **argv) {
                 vis.splat_spacings = settings[s].splat_spacings;
                 vis.disc_spacings = settings[s].disc_spacings;
                 vis.blend = settings[s].blend;
+                vis.open_rays = settings[s].open_rays;
                 const TransportPrior prior =
                     solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, settings[s].bounces, &sp.emission_scale, vis,
                                           nullptr, settings[s].balance, settings[s].patches);
@@ -127,18 +150,18 @@ int main(int argc, char **argv) {
                 Sums &x = sums[s];
                 x.mse += m.mse, x.ssim += m.ssim, x.seconds += secs, ++x.views;
                 x.beats_flat += m.mse < flat_mse, x.in_band += f.level_in_band();
-                per_setting += " " + std::to_string(m.mse);
+                per_setting += " " + std::to_string(m.mse) + " (level " + std::to_string(f.level_ratio).substr(0, 5) + ", chroma " +
+                               std::to_string(f.chroma_error).substr(0, 5) + ")";
                 strip.push_back(scatter_to_image(gb, e));
             }
             if (const char *dir = std::getenv("PRIOR_ABLATION_PNG")) {
                 const float scale = tonemap_scale(ref);
                 for (Image &im : strip) im = resize_nearest(tonemap(im, scale), 3 * size, 3 * size);
-                write_png(std::string(dir) + "/seed-" + std::to_string(seed) + ".png", hconcat(strip));
+                write_png(std::string(dir) + "/" + name + ".png", hconcat(strip));
             }
-            std::fprintf(stderr, "seed %llu%s: flat %.4f, MSE%s\n", (unsigned long long)seed, cached ? " (cached reference)" : "",
-                         flat_mse, per_setting.c_str());
+            std::fprintf(stderr, "%s%s: flat %.4f, MSE%s\n", name.c_str(), cached ? " (cached reference)" : "", flat_mse, per_setting.c_str());
         }
-        std::printf("| occlusion H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none : bounces : blended clusters : patches) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        std::printf("| occlusion H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none : bounces : blended clusters : patches : open rays) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
         for (size_t s = 0; s < settings.size(); ++s) {
             const Sums &x = sums[s];
             const double n = std::max(1, x.views);

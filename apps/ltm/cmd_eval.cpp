@@ -88,7 +88,10 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
     std::vector<EvalScene> scenes;
     for (const auto &s : a.scenes) {
-        if (s.find(':') != std::string::npos && !std::filesystem::exists(s)) {
+        // A seed range is digits:digits; anything else (a file, builtin:NAME) is a scene to load.
+        const bool seed_range = s.find(':') != std::string::npos && !std::filesystem::exists(s) &&
+                                s.find_first_not_of("0123456789:") == std::string::npos;
+        if (seed_range) {
             const auto [lo, hi] = parse_seed_range(s, "--scenes");
             for (uint64_t seed = lo; seed < hi; ++seed)
                 scenes.push_back({"seed-" + std::to_string(seed), generate_indoor(gen, seed).scene});
@@ -96,7 +99,15 @@ void run(const EvalArgs &a, const CommonOptions &common) {
             Scene sc = load_scene(s);
             for (const auto &w : scene_range_warnings(sc, models.empty() || models.front().model->cfg.physics.length_scale))
                 log_warn(s, ": ", w);
-            scenes.push_back({std::filesystem::path(s).stem().string(), std::move(sc)});
+            // Named by the file's stem; where two share one (rooms that each ship a scene-v4.pbrt),
+            // by their folder: names label rows and grid files.
+            const std::filesystem::path fp(s);
+            std::string name = s.rfind("builtin:", 0) == 0 ? "builtin-" + s.substr(8) : fp.stem().string();
+            for (const auto &other : a.scenes)
+                if (&other != &s && other.rfind("builtin:", 0) != 0 && std::filesystem::path(other).stem() == fp.stem() &&
+                    !fp.parent_path().filename().empty())
+                    name = fp.parent_path().filename().string();
+            scenes.push_back({name, std::move(sc)});
         }
     }
     if (scenes.empty()) LTM_THROW("--scenes: no scenes");

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "ltm/core/json_util.h"
 #include "ltm/core/log.h"
 #include "ltm/nn/checkpoint.h"
 
@@ -13,6 +14,7 @@ namespace {
 struct ExportArgs {
     std::string input, output, note;
     bool half = false;
+    std::vector<std::string> overrides;
 };
 
 bool ends_with(const std::string &s, const std::string &suffix) {
@@ -23,6 +25,9 @@ void declare(CLI::App &sub, ExportArgs &a) {
     add_output_option(sub, a.output, "Weights file (.safetensors)");
     sub.add_flag("--half", a.half, "Store F16 (half the size; inference converts back to F32)");
     sub.add_option("--note", a.note, "Free text stored in the metadata ('note'), e.g. provenance");
+    sub.add_option("--set", a.overrides,
+                   "Override a setting of the closed-form prior in the exported config, e.g. --set physics.prior_open_rays=16 "
+                   "(only physics.prior_* keys: they carry no parameters)");
 }
 
 void run(const ExportArgs &a, const CommonOptions &) {
@@ -37,6 +42,16 @@ void run(const ExportArgs &a, const CommonOptions &) {
         model = LtmModel(mc);
         load_checkpoint_model(a.input, model);
         meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
+    }
+    if (!a.overrides.empty()) {
+        // The prior's settings are computed at inference from the scene points, so they change
+        // what the weights predict but not their shapes; any other key would.
+        Json j = model->cfg.to_json();
+        for (const auto &o : a.overrides) {
+            if (o.rfind("physics.prior_", 0) != 0) LTM_THROW("--set ", o, ": only physics.prior_* keys can change in export");
+            apply_json_override(j, o);
+        }
+        model->cfg = ModelConfig::from_json(j, "--set");
     }
     if (!a.note.empty()) meta["note"] = a.note;
     save_weights(a.output, model, meta, a.half);

@@ -7,6 +7,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/core/rng.h"
+#include "ltm/render/preview.h"
 
 namespace ltm {
 
@@ -17,8 +18,8 @@ PathTracerConfig eval_tracer_config(uint64_t seed, EvalRole role) {
 }
 
 Camera eval_view_camera(const Scene &scene, int v, int n, int width, int height) {
-    if (scene.cameras.empty()) LTM_THROW("eval: scene '", scene.name, "' has no camera");
-    Camera cam = scene.cameras.front();
+    // A scene without a camera (an OBJ, a glTF without one) is seen as `ltm render` sees it.
+    Camera cam = scene.cameras.empty() ? automatic_camera(scene, width, height) : scene.cameras.front();
     cam.width = width, cam.height = height;
     if (v > 0) {
         const float a = 2.f * k_pi * float(v) / float(n), c = std::cos(a), s = std::sin(a);

@@ -86,6 +86,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
     vis.clusters = physics.prior_clusters;
     vis.disc_spacings = physics.prior_discs;
     vis.blend = physics.prior_blend;
+    vis.open_rays = physics.prior_open_rays;
     const PointSet all = scene_point_table(framed);
     return std::make_shared<const TransportPrior>(
         solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all,

@@ -70,6 +70,8 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_blend", &C::prior_blend, "each receiver of the transport prior blends the visibility of its K nearest visible occlusion clusters (1 = its one cluster)", between(1, 7))
             .omit_default()
             .field("prior_patches", &C::prior_patches, "the transport prior's near field by the exact form factors of square patches (else the point formula)")
+            .omit_default()
+            .field("prior_open_rays", &C::prior_open_rays, "rows of the transport prior sum to each receiver's closure from R x R rays per occlusion cluster against the discs (0 = every receiver closed)", between(0, 64))
             .omit_default();
     return f;
 }
@@ -117,6 +119,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                 LTM_THROW(ph.where("prior_balance"), ": the power balance applies only with prior_visibility > 0");
             if (p.prior_blend != PhysicsConfig{}.prior_blend && !(p.prior_visibility > 0.f))
                 LTM_THROW(ph.where("prior_blend"), ": blending occlusion clusters needs prior_visibility > 0");
+            if (p.prior_open_rays > 0 && !(p.prior_discs > 0.f))
+                LTM_THROW(ph.where("prior_open_rays"), ": the open share is measured against the discs: needs prior_discs > 0");
             if (p.prior_discs > 0.f && !(p.prior_visibility > 0.f))
                 LTM_THROW(ph.where("prior_discs"), ": occlusion discs need prior_visibility > 0");
             if (p.prior_visibility > 0.f && p.prior_field != "transport")

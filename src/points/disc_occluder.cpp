@@ -63,10 +63,11 @@ DiscOccluder::DiscOccluder(const std::vector<Vec3f> &points, const std::vector<V
     }
 }
 
-bool DiscOccluder::hits(uint32_t k, Vec3f a, Vec3f d, float t0, float t1) const {
+bool DiscOccluder::hits(uint32_t k, Vec3f a, Vec3f d, float t0, float t1, bool either_side) const {
     const Vec3f n = m_normal[k];
     const float denom = dot(n, d);
-    if (!(denom < -k_grazing * length(d))) return false;   // from behind, or along the disc
+    // From behind (unless either side counts), or along the disc.
+    if (either_side ? !(std::abs(denom) > k_grazing * length(d)) : !(denom < -k_grazing * length(d))) return false;
     const float t = dot(n, m_center[k] - a) / denom;
     if (!(t > t0 && t < t1)) return false;
     const Vec3f q = a + d * t - m_center[k];
@@ -79,7 +80,21 @@ bool DiscOccluder::blocked(Vec3f a, Vec3f b) const {
     const float len = length(d);
     const float margin = k_end_margin * m_r;
     if (!(len > 2.f * margin) || !std::isfinite(len)) return false;
-    const float t0 = margin / len, t1 = 1.f - margin / len;
+    return walk(a, d, margin / len, 1.f - margin / len, false);
+}
+
+bool DiscOccluder::ray_meets_disc(Vec3f origin, Vec3f direction) const {
+    if (empty()) return false;
+    const float len = length(direction);
+    if (!(len > 0.f) || !std::isfinite(len) || !is_finite(origin)) return false;
+    const Vec3f d = direction / len;
+    // Far enough to leave the box from anywhere inside or near it (walk clips to the box).
+    const Vec3f extent = Vec3f(2.f * m_r * float(m_dim[0]), 2.f * m_r * float(m_dim[1]), 2.f * m_r * float(m_dim[2]));
+    const float reach = 2.f * (length(extent) + length(origin - m_origin));
+    return walk(origin, d * reach, k_end_margin * m_r / reach, 1.f, true);
+}
+
+bool DiscOccluder::walk(Vec3f a, Vec3f d, float t0, float t1, bool either_side) const {
     // Clip [t0, t1] to the grid's box (slabs).
     const float cell = 2.f * m_r;
     float tmin = t0, tmax = t1;
@@ -113,7 +128,7 @@ bool DiscOccluder::blocked(Vec3f a, Vec3f b) const {
     for (;;) {
         const size_t i = size_t(cell_index(c));
         for (uint32_t s = m_cell_start[i]; s < m_cell_start[i + 1]; ++s)
-            if (hits(m_cell_disc[s], a, d, t0, t1)) return true;
+            if (hits(m_cell_disc[s], a, d, t0, t1, either_side)) return true;
         int ax = 0;
         if (t_next[1] < t_next[ax]) ax = 1;
         if (t_next[2] < t_next[ax]) ax = 2;

@@ -10,6 +10,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
+#include "ltm/core/sampling.h"
 
 namespace ltm {
 
@@ -233,6 +234,26 @@ int ClusterVisibility::receiver_clusters(Vec3f p, Vec3f n, uint32_t *ids, float 
     ids[0] = seen > 0 ? ids[0] : found > 0 ? near[0].second : nearest;
     weights[0] = 1.f;
     return 1;
+}
+
+std::vector<float> cluster_closure(const ClusterVisibility &vis, int rays) {
+    if (vis.discs.empty()) LTM_THROW("cluster closure: needs the points as discs (prior_discs > 0)");
+    if (rays < 1 || rays > 256) LTM_THROW("cluster closure: rays per side must be in [1, 256], got ", rays);
+    // One pattern of local directions for every centre: cell centres of the square, cosine-mapped.
+    std::vector<Vec3f> local;
+    for (int a = 0; a < rays; ++a)
+        for (int b = 0; b < rays; ++b)
+            local.push_back(sample_cosine_hemisphere({(float(a) + 0.5f) / float(rays), (float(b) + 0.5f) / float(rays)}));
+    std::vector<float> closure(vis.size(), 1.f);
+    parallel_for(0, int64_t(vis.size()), 4, [&](int64_t lo, int64_t hi) {
+        for (int64_t c = lo; c < hi; ++c) {
+            const Frame frame(vis.normal[size_t(c)]);
+            int met = 0;
+            for (const Vec3f &w : local) met += vis.discs.ray_meets_disc(vis.position[size_t(c)], frame.to_world(w));
+            closure[size_t(c)] = float(met) / float(local.size());
+        }
+    });
+    return closure;
 }
 
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::vector<Vec3f> &nrm, VoxelOccupancy occupancy,

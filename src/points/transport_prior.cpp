@@ -95,10 +95,12 @@ struct ClusterOrder {
 // the runs [lo, hi) of places whose cluster weighs > 0, and mask[place] = that weight.
 struct ReceiverView {
     std::vector<float> weight, mask;
+    float closure = 1.f;   ///< what the row sums to: the blended closure of its clusters (1: closed)
     std::vector<std::pair<size_t, size_t>> runs;
     explicit ReceiverView(const ClusterOrder &co) : mask(co.order.size(), 1.f), runs{{0, co.order.size()}} {}
     void set(const ClusterVisibility &vis, const ClusterOrder &co, const uint32_t *ids, const float *w, int K) {
         const size_t C = vis.size();
+        closure = vis.closure_of(ids, w, K);
         weight.assign(C, 0.f);
         for (int k = 0; k < K; ++k) {
             const uint8_t *row = vis.visible.data() + size_t(ids[k]) * C;
@@ -227,7 +229,8 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
             float sum = 0.f;
             size_t len = 0;
             for (const auto &[lo, hi] : view.runs) sum += sum8(row.data() + lo, hi - lo), len += hi - lo;
-            const float inv = sum > 0.f ? 1.f / sum : 0.f;
+            // The row sums to the node's closure: light sent into its open share leaves the scene.
+            const float inv = sum > 0.f ? view.closure / sum : 0.f;
             std::vector<float> &vals = g[size_t(i)];
             vals.reserve(len);
             for (const auto &[lo, hi] : view.runs) {
@@ -326,7 +329,9 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
             discs ? float(double(spacing) * std::sqrt(2.0 * k_voxels_per_point * double(op.size()) / double(vis.clusters))) : 0.f;
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
                                discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell);
+        if (vis.open_rays > 0) v.closure = cluster_closure(v, vis.open_rays);
     }
+    if (vis.open_rays > 0 && v.closure.empty()) LTM_THROW("transport prior: open_rays needs occlusion by discs");
     v.blend = vis.blend;
     const auto t1 = Clock::now();
     TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches);
@@ -364,7 +369,7 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                 for (int k = 0; k < 3; ++k) num[k] += dot8(r + lo, ex[k].data() + lo, hi - lo);
             }
             float *o = out + size_t(q) * 3;
-            for (int k = 0; k < 3; ++k) o[k] = den > 0 ? float(num[k] / den) : 0.f;
+            for (int k = 0; k < 3; ++k) o[k] = den > 0 ? float(double(view.closure) * num[k] / den) : 0.f;
         }
     });
 }
@@ -486,7 +491,7 @@ void gather_transport_prior_radiance(const TransportPrior &prior, const float *p
                 for (int c = 0; c < 3; ++c) {
                     double v = 0;
                     for (int k = 0; k < 4; ++k) v += double(ws[k]) * hist[size_t(cs[k]) * 3 + size_t(c)];
-                    o[c] = float(to_radiance * v / den);
+                    o[c] = float(double(view.closure) * to_radiance * v / den);
                 }
             }
         }

@@ -102,6 +102,9 @@ public:
             for (size_t i = 0; i < m_model.nodes.size(); ++i) roots.push_back(int(i));
         }
         for (int r : roots) visit(r, Transform(), 0);
+        const size_t total = m_scene.n_triangles();
+        if (const size_t dropped = drop_degenerate_triangles(m_scene))
+            warn(detail::concat(dropped, " of ", total, " triangles dropped as degenerate (slivers or specks: no visible surface)"));
         for (const auto &[msg, count] : m_warnings) log_warn(m_where, ": ", msg, count > 1 ? detail::concat(" (", count, "×)") : "");
         m_scene.metadata["gltf"] = {{"file", m_where}, {"unit", "m"}, {"up_axis", "+y"}};
         return std::move(m_scene);
@@ -251,7 +254,6 @@ private:
                     else tm.indices.insert(tm.indices.end(), {idx[i - 1], idx[i - 2], idx[i]});
                 }
             }
-            if (drop_degenerate_triangles(tm) > 0) warn("degenerate (zero-area) triangles dropped");
             if (tm.indices.empty()) continue;
             transform_mesh(tm, xf);   // flips the winding under a mirroring transform, as glTF specifies
             tm.material = material(p.material);

@@ -1,6 +1,7 @@
 // mesh_builder.cpp: primitive construction with consistent winding and metric uvs.
 #include "ltm/scene/mesh_builder.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ltm/core/error.h"
@@ -89,12 +90,36 @@ void transform_mesh(TriangleMesh &mesh, const Transform &xf, size_t first_vertex
     }
 }
 
+bool is_degenerate_triangle(Vec3f p0, Vec3f p1, Vec3f p2) {
+    if (!is_finite(p0) || !is_finite(p1) || !is_finite(p2)) return true;
+    // In double: the edges of a 1e-6 sliver are exact differences of floats, the rule is not.
+    const double e[3][3] = {{double(p1.x) - p0.x, double(p1.y) - p0.y, double(p1.z) - p0.z},
+                            {double(p2.x) - p0.x, double(p2.y) - p0.y, double(p2.z) - p0.z},
+                            {double(p2.x) - p1.x, double(p2.y) - p1.y, double(p2.z) - p1.z}};
+    const double cx = e[0][1] * e[1][2] - e[0][2] * e[1][1], cy = e[0][2] * e[1][0] - e[0][0] * e[1][2],
+                 cz = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+    double longest2 = 0;
+    for (const auto &v : e) longest2 = std::max(longest2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const double twice_area = std::sqrt(cx * cx + cy * cy + cz * cz);
+    // The float area as the renderer computes it must be positive too (it divides by it).
+    const float area = 0.5f * length(cross(p1 - p0, p2 - p0));
+    return !(twice_area > 1e-6 * longest2) || !(area > 0.f) || !std::isfinite(area);
+}
+
 size_t drop_degenerate_triangles(TriangleMesh &mesh) {
     std::vector<uint32_t> kept;
     for (size_t t = 0; t < mesh.n_triangles(); ++t)
-        if (mesh.area(t) > 0.f) kept.insert(kept.end(), mesh.indices.begin() + long(3 * t), mesh.indices.begin() + long(3 * t + 3));
+        if (!is_degenerate_triangle(mesh, t)) kept.insert(kept.end(), mesh.indices.begin() + long(3 * t), mesh.indices.begin() + long(3 * t + 3));
     const size_t dropped = mesh.n_triangles() - kept.size() / 3;
     mesh.indices = std::move(kept);
+    return dropped;
+}
+
+size_t drop_degenerate_triangles(Scene &scene) {
+    size_t dropped = 0;
+    for (auto &mesh : scene.meshes) dropped += drop_degenerate_triangles(mesh);
+    scene.meshes.erase(std::remove_if(scene.meshes.begin(), scene.meshes.end(), [](const TriangleMesh &m) { return m.n_triangles() == 0; }),
+                       scene.meshes.end());
     return dropped;
 }
 

@@ -8,6 +8,8 @@
 
 #include "ltm/core/color.h"
 #include "ltm/core/error.h"
+#include "ltm/core/log.h"
+#include "ltm/scene/mesh_builder.h"
 
 namespace fs = std::filesystem;
 
@@ -126,6 +128,9 @@ Scene obj_to_scene(const tinyobj::ObjReader &reader, const std::string &path, bo
             s.meshes.push_back(std::move(m));
         }
     }
+    const size_t total = s.n_triangles();
+    if (const size_t dropped = drop_degenerate_triangles(s))
+        log_warn(path, ": ", dropped, " of ", total, " triangles dropped as degenerate (slivers or specks: no visible surface)");
     if (used_default) {
         Material m;
         m.name = "default";

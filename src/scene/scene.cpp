@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ltm/core/error.h"
+#include "ltm/scene/mesh_builder.h"
 
 namespace ltm {
 
@@ -67,11 +68,9 @@ void validate_scene(const Scene &scene, const std::string &where, const Validate
             if (mesh.indices[i] >= mesh.positions.size())
                 LTM_THROW(what, ": index ", i, " = ", mesh.indices[i], " is out of range (",
                           mesh.positions.size(), " vertices)");
-        for (size_t t = 0; t < mesh.n_triangles(); ++t) {
-            const float a = mesh.area(t);
-            if (!(a >= opt.min_triangle_area))
-                LTM_THROW(what, ": triangle ", t, " is degenerate (area ", a, " m²)");
-        }
+        for (size_t t = 0; t < mesh.n_triangles(); ++t)
+            if (is_degenerate_triangle(mesh, t))
+                LTM_THROW(what, ": triangle ", t, " is degenerate (area ", mesh.area(t), ", a sliver or a point)");
     }
     for (const auto &cam : scene.cameras) {
         const std::string what = where + ": camera '" + cam.name + "'";

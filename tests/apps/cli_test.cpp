@@ -232,6 +232,15 @@ TEST(Cli, NeuralRenderAndEvalSmoke) {
              "16", "--direct-spp", "1", "-o", dir.path("cb")});
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("outside the training range"), std::string::npos) << r.err;
+    // eval takes every scene form the other commands take: a built-in, an OBJ without a camera
+    // (the automatic camera of render), beside a seed range.
+    r = run({"eval", "--model", weights, "--scenes", "builtin:cornell-box", test::source_path("examples/cornell-box/cornell-box.obj"),
+             "--width", "16", "--height", "16", "--ref-spp", "4", "--baseline-spp", "1", "--no-grids", "-o", dir.path("forms"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Json forms = parse_json_file(dir.path("forms/report.json"));
+    ASSERT_EQ(forms["views"].size(), 2u);
+    EXPECT_EQ(forms["views"][0]["scene"], "builtin-cornell-box");
+    EXPECT_EQ(forms["views"][1]["scene"], "cornell-box");
     // The same box in millimetres is no warning for it: its proportions are a room's.
     r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", weights, "--width", "16", "--height",
              "16", "--direct-spp", "1", "-o", dir.path("cb2")});

@@ -147,3 +147,39 @@ TEST(DiscOccluder, BadInputIsAnError) {
     EXPECT_FALSE(occ.blocked(Vec3f(1.f), Vec3f(1.f))) << "a zero-length segment";
     EXPECT_FALSE(occ.blocked(Vec3f(NAN), Vec3f(1.f))) << "NaN is never a hit";
 }
+
+// A ray meets a disc from either side (the open share counts any surface it reaches), not one it
+// runs along, and not its own surface at its origin; the grid walk agrees with testing every disc.
+TEST(DiscOccluder, RaysMeetDiscsFromEitherSideUntilTheyLeave) {
+    const Discs room = box_room();
+    const DiscOccluder occ(room.p, room.n, k_s);
+    const Vec3f floor(1.f, 0.f, 1.f), up(0, 1, 0);
+    EXPECT_TRUE(occ.ray_meets_disc(floor, up)) << "the ceiling, from its front";
+    EXPECT_TRUE(occ.ray_meets_disc(Vec3f(1.f, 3.f, 1.f), up * -1.f)) << "the ceiling, from behind";
+    EXPECT_FALSE(occ.ray_meets_disc(Vec3f(1.f, 3.f, 1.f), up)) << "above the box: nothing";
+    EXPECT_FALSE(occ.ray_meets_disc(Vec3f(1.f, 0.f, 3.f), Vec3f(0, 0, 1))) << "in the floor's plane, leaving the box";
+    EXPECT_TRUE(occ.ray_meets_disc(floor, Vec3f(0.3f, 0.01f, 0.f))) << "nearly along the floor: the far wall, not the floor";
+    // Against every disc (either side, beyond r/4, not grazing) along the ray to far outside.
+    auto brute = [&](Vec3f a, Vec3f d) {
+        d = d / length(d);
+        for (size_t k = 0; k < room.p.size(); ++k) {
+            const float denom = dot(room.n[k], d);
+            if (!(std::abs(denom) > 0.05f)) continue;
+            const float t = dot(room.n[k], room.p[k] - a) / denom;
+            if (!(t > 0.25f * k_s)) continue;
+            const Vec3f q = a + d * t - room.p[k];
+            if (dot(q, q) < k_s * k_s) return true;
+        }
+        return false;
+    };
+    int met = 0;
+    for (size_t i = 0; i < 2000; ++i) {
+        const Vec3f a = random_point(i, 40, -1.f, 3.f), d = random_point(i, 50, -1.f, 1.f);
+        if (!(length(d) > 0.1f)) continue;
+        const bool grid = occ.ray_meets_disc(a, d);
+        ASSERT_EQ(grid, brute(a, d)) << "ray " << i;
+        met += grid;
+    }
+    EXPECT_GT(met, 300);
+    EXPECT_LT(met, 1900);
+}

@@ -404,3 +404,52 @@ TEST(PointVisibility, NodeOrderPlaysNoPart) {
     EXPECT_EQ(one.exitance, a.exitance);
     EXPECT_EQ(e_one, ea);
 }
+
+// The closure of a point (the share of its cosine-weighted hemisphere that meets a surface) from
+// rays against the discs: 1 in a closed box; at the centre of the floor of a unit box without its
+// top, 1 − F, F the form factor of the opening — four 0.5 × 0.5 rectangles at height 1 with a corner
+// above the point: F = 4 · (1/π) · X/√(1+X²) · atan(Y/√(1+X²)), X = Y = 0.5, F = 0.23946.
+TEST(PointVisibility, ClosureOfAnOpenBoxIsOneMinusTheFormFactorOfItsOpening) {
+    for (bool open : {false, true}) {
+        std::vector<Vec3f> p, n;
+        const int g = 24;
+        test::for_each_face_cell(Vec3f(0.f), Vec3f(1.f), g, test::no_jitter, [&](int f, Vec3f q, Vec3f m) {
+            if (!(open && f == 3)) p.push_back(q), n.push_back(m);
+        });
+        ClusterVisibility vis;
+        vis.position = {Vec3f(0.5f, 0.f, 0.5f), Vec3f(0.03f, 0.5f, 0.5f)};
+        vis.normal = {Vec3f(0, 1, 0), Vec3f(1, 0, 0)};
+        vis.discs = DiscOccluder(p, n, 1.f / float(g));
+        const std::vector<float> c = cluster_closure(vis, 32);
+        ASSERT_EQ(c.size(), 2u);
+        const double x = 0.5, f = 4.0 / k_pi * x / std::sqrt(1 + x * x) * std::atan(x / std::sqrt(1 + x * x));
+        EXPECT_NEAR(c[0], open ? 1.0 - f : 1.0, 0.015) << (open ? "open" : "closed");
+        if (!open) EXPECT_NEAR(c[1], 1.0, 0.01) << "a wall point near the floor";
+        if (open) EXPECT_LT(c[1], 0.97f) << "a wall point sees the opening too";
+    }
+    ClusterVisibility none;
+    none.position = {Vec3f(0.f)}, none.normal = {Vec3f(0, 1, 0)};
+    EXPECT_THROW(cluster_closure(none, 8), Error) << "no discs";
+}
+
+// A furnace whose every cluster has closure c: each bounce keeps c of the light, so
+// B_k = (cρ)^k π L and E⁺ = c · π L Σ_{k=1..D} (cρ)^k at every receiver (rows sum to c); c = 1 is
+// the closed furnace.
+TEST(PointVisibility, ClosureScalesEveryRowOfTheFurnace) {
+    Points pts;
+    add_room(pts, Vec3f(0.f), Vec3f(2.f), 12, [](Vec3f) { return true; }, [](int) { return Vec3f(1.f, 2.f, 0.5f); });
+    const int d = 4;
+    for (float c : {1.f, 0.75f}) {
+        ClusterVisibility v = cluster_visibility(pts.p, pts.n, VoxelOccupancy(pts.p, pts.n, 2.f * k_spacing), 64);
+        v.closure.assign(v.size(), c);
+        const TransportPrior t = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, k_spacing * k_spacing, d, std::move(v),
+                                                       PriorBalance::none);
+        const auto e = gather(t, {{1.f, 0.01f, 1.f}, {0.3f, 1.2f, 1.99f}}, {{0, 1, 0}, {0, 0, -1}});
+        for (int ch = 0; ch < 3; ++ch) {
+            double series = 0, term = 1;
+            for (int k = 0; k < d; ++k) series += (term *= 0.5 * double(c));
+            const double expect = double(c) * k_pi * double(pts.le[0][ch]) * series;
+            for (size_t q = 0; q < 2; ++q) EXPECT_NEAR(e[3 * q + size_t(ch)], expect, 1e-3 * expect) << "c " << c << " channel " << ch;
+        }
+    }
+}

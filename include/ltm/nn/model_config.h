@@ -129,8 +129,13 @@ struct PhysicsConfig {
     /// area, so a receiver at a concave edge sees the adjacent wall over half its hemisphere (the
     /// point formula at the nodes' centres gave it ~0: bright seams). Only with prior_field "transport".
     bool prior_patches = false;
+    /// R > 0: the transport prior's rows sum to each receiver's closure — the share of its
+    /// hemisphere that meets a surface, from R × R rays per occlusion cluster against the points as
+    /// discs (VisibilityOptions::open_rays) — instead of 1, so light that leaves through an open
+    /// side or a window to nothing leaves the solve. 0 = every receiver closed (v0.11). Needs prior_discs > 0.
+    int prior_open_rays = 0;
 
-    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1, false}; }
+    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1, false, 0}; }
     /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.
     static const ConfigFields<PhysicsConfig> &fields();
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }

@@ -41,11 +41,18 @@ public:
     /// Is the segment from a to b blocked by a disc it meets from the front, more than r/4 from
     /// either end? A segment shorter than r/2 never is.
     bool blocked(Vec3f a, Vec3f b) const;
+    /// Does the ray from `origin` along `direction` (any length > 0) meet a disc from either side
+    /// (not grazing), more than r/4 from its origin, before it leaves the discs' box? A ray that
+    /// meets none escapes the scene: the share of a hemisphere's rays that escape is the point's
+    /// open share (the transport prior's openness, points/transport_prior.h).
+    bool ray_meets_disc(Vec3f origin, Vec3f direction) const;
 
 private:
+    /// Does the segment a + t·d, t ∈ (t0, t1), meet a disc (from the front only, or from either side)?
+    bool walk(Vec3f a, Vec3f d, float t0, float t1, bool either_side) const;
     int64_t cell_index(const int c[3]) const { return (int64_t(c[2]) * m_dim[1] + c[1]) * m_dim[0] + c[0]; }
-    /// Does disc k block the segment a + t·d, t ∈ (t0, t1)?
-    bool hits(uint32_t k, Vec3f a, Vec3f d, float t0, float t1) const;
+    /// Does disc k block the segment a + t·d, t ∈ (t0, t1)? (From its front, or either side.)
+    bool hits(uint32_t k, Vec3f a, Vec3f d, float t0, float t1, bool either_side = false) const;
     float m_r = 0.f;
     Vec3f m_origin{0.f};   ///< the grid's lowest corner
     int m_dim[3] = {0, 0, 0};

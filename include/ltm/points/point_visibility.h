@@ -83,6 +83,11 @@ struct VisibilityOptions {
     /// clusters (ClusterVisibility::receiver_clusters), not of its one cluster's: the image of a
     /// surface then has no edges where its pixels change cluster. 1 = one cluster (v0.9).
     int blend = 1;
+    /// R > 0: each cluster centre casts R² cosine-distributed rays (an R × R stratified grid of the
+    /// concentric map) against the discs, and the share that meets a disc is its closure c (1 − its
+    /// open share: a window to nothing, an open side); a receiver's row of the prior then sums to its
+    /// blended c instead of 1 (points/transport_prior.h). Needs discs. 0 = every receiver closed (v0.11).
+    int open_rays = 0;
 };
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th
@@ -101,6 +106,9 @@ struct ClusterVisibility {
     DiscOccluder discs;                    ///< when not empty, what the segments are tested against instead
     PointGrid centres;                     ///< the centres on a grid of the cluster cell's edge (empty: receivers scan them all)
     int blend = 1;                         ///< K of receiver_clusters (VisibilityOptions::blend)
+    /// [C] each centre's closure: the share of its cosine-weighted hemisphere that meets a surface
+    /// (cluster_closure); empty: every cluster closed (1).
+    std::vector<float> closure;
     static constexpr int k_candidates = 8;   ///< facing centres a receiver considers
     bool empty() const { return position.empty(); }
     size_t size() const { return position.size(); }
@@ -120,7 +128,22 @@ struct ClusterVisibility {
     /// Is the segment between two surface points (a, normal na) and (b, nb) blocked? Against the
     /// discs when there are any, else against the voxels with both ends lifted h/2 along their normals.
     bool blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const;
+    /// The closure of a receiver that blends clusters ids[0..K) with weights w: Σ_k w_k c(ids_k),
+    /// 1 without closures.
+    float closure_of(const uint32_t *ids, const float *w, int K) const {
+        if (closure.empty()) return 1.f;
+        float c = 0.f;
+        for (int k = 0; k < K; ++k) c += w[k] * closure[ids[k]];
+        return c;
+    }
 };
+
+/// The closure of each cluster centre (ClusterVisibility::closure): of rays² cosine-distributed
+/// directions (the centres of an rays × rays grid on the concentric map, in Frame(normal)), the
+/// share whose ray meets a disc (DiscOccluder::ray_meets_disc: either side, before leaving the
+/// scene). 1 in a closed room up to the discs' gaps, below 1 where the hemisphere opens to nothing.
+/// O(C·rays²·L/r). Deterministic at any thread count. Needs discs; rays ≥ 1.
+std::vector<float> cluster_closure(const ClusterVisibility &vis, int rays);
 
 /// Clusters the m nodes and tests visibility between every pair of cluster centres against
 /// `occupancy` (of all scene points). Centres: the nodes are grouped by a cube grid of edge

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "ltm/scene/mesh.h"
+#include "ltm/scene/scene.h"
 
 namespace ltm {
 
@@ -19,9 +20,23 @@ void add_box(TriangleMesh &mesh, Vec3f lo, Vec3f hi);
 /// Closed cylinder along +y: base centre, radius, height, `segments` sides; outward normals.
 void add_cylinder(TriangleMesh &mesh, Vec3f base_center, float radius, float height, int segments);
 
-/// Removes the triangles of zero (or non-finite) area: they carry no surface and would fail
-/// validate_scene. Returns how many were removed. Used by the readers of foreign formats.
+/// The one rule for a degenerate triangle, shared by the scene loader (which drops them) and
+/// validate_scene (which refuses them): twice its area is not above k · (longest edge)², k = 1e-6,
+/// or a coordinate or the area is not finite. Relative, so it does not depend on the unit of length
+/// (a well-shaped 10 µm triangle of a real file is kept); a sliver thinner than a millionth of
+/// its length is dropped: its float cross product is rounding (relative error ~1e-7 · edge²), so
+/// its normal is noise, and it carries no visible surface.
+bool is_degenerate_triangle(Vec3f p0, Vec3f p1, Vec3f p2);
+inline bool is_degenerate_triangle(const TriangleMesh &mesh, size_t tri) {
+    return is_degenerate_triangle(mesh.vertex(tri, 0), mesh.vertex(tri, 1), mesh.vertex(tri, 2));
+}
+
+/// Removes the degenerate triangles (is_degenerate_triangle); returns how many were removed.
 size_t drop_degenerate_triangles(TriangleMesh &mesh);
+/// The same over a scene's meshes (in world space: after every transform and instancing), removing
+/// the meshes left empty. The readers of foreign formats (pbrt, glTF, OBJ) call it once with one
+/// warning, so a real file that pbrt-v4 renders loads; validate_scene refuses what it would drop.
+size_t drop_degenerate_triangles(Scene &scene);
 
 /// Applies an affine transform to every vertex appended from index `first_vertex` on;
 /// flips the winding of the affected triangles if the transform mirrors.

@@ -31,11 +31,11 @@ struct Scene {
 
 struct ValidateOptions {
     bool require_emitter = true;      ///< a scene without light is an error for rendering/baking
-    float min_triangle_area = 1e-10f; ///< m²; smaller counts as degenerate
 };
 
 /// Throws "<where>: <problem>" for: no meshes, non-finite positions/uvs, indices out of range,
-/// degenerate triangles, undefined materials, no emitter (if required), bad cameras.
+/// degenerate triangles (is_degenerate_triangle, scene/mesh_builder.h: the loader drops them from
+/// foreign formats, so only a scene JSON can still hold one), undefined materials, no emitter (if required), bad cameras.
 void validate_scene(const Scene &scene, const std::string &where, const ValidateOptions &opt = {});
 
 }  // namespace ltm
