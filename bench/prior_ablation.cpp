@@ -126,7 +126,9 @@ int main(int argc, char **argv) {
             const Color3d mc = mean_color(ref_hits);
             const Image flat = scatter_to_image(gb, std::vector<Vec3f>(gb.n_hits(), Vec3f{float(mc[0]), float(mc[1]), float(mc[2])}));
             const double flat_mse = compare_images(flat, ref).mse;
-            const ScenePoints sp = sample_scene_points(accel, 8192, 0, true);
+            // PRIOR_ABLATION_BURIED=x: scene points buried within x nominal spacings count as enclosed.
+            const char *buried = std::getenv("PRIOR_ABLATION_BURIED");
+            const ScenePoints sp = sample_scene_points(accel, 8192, 0, true, buried ? std::stof(buried) : k_buried_spacings);
             const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
             std::string per_setting;   // this view's MSE per setting, for the log
             std::vector<Image> strip{ref};   // PRIOR_ABLATION_PNG=dir: reference | each setting, per view

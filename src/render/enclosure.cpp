@@ -21,7 +21,7 @@ bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest
             const auto hit = accel.intersect({o, d});
             ++total;
             if (!hit) continue;
-            if (dot(hit->n, d) > 0.f) {
+            if (dot(hit->n, d) > 0.f || hit->t < cfg.buried_distance) {
                 ++back;
                 continue;
             }

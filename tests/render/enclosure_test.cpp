@@ -12,6 +12,7 @@
 #include "ltm/render/enclosure.h"
 #include "ltm/render/scene_points.h"
 #include "ltm/scene/builtin_scenes.h"
+#include "ltm/scene/mesh_builder.h"
 #include "ltm/scene/scene_transform.h"
 #include "box_scenes.h"
 
@@ -138,4 +139,27 @@ TEST(Enclosure, AFloorUnderStackedBoxesIsEnclosedInAnyUnitAndMeshOrder) {
                 EXPECT_TRUE(is_enclosed(accel, Vec3f(x, 0.f, 0.45f) * f, {0.f, 1.f, 0.f}, cfg)) << "x " << x << " ×" << f << " b first " << b_first;
             EXPECT_FALSE(is_enclosed(accel, Vec3f(0.1f, 0.f, 0.1f) * f, {0.f, 1.f, 0.f}, cfg)) << "open floor ×" << f;
         }
+}
+
+// A rug 1 cm above the floor of the Cornell box: the floor beneath it and the rug's underside see
+// only each other, so with a buried distance of 5 cm they count as enclosed (the model's sampler:
+// 0.5 point spacings), without it they do not; the rug's top and the open floor stay.
+TEST(Enclosure, PointsBuriedInAThinGapCountAsEnclosed) {
+    Scene s = cornell_box();
+    TriangleMesh rug;
+    rug.name = "rug", rug.material = 0;
+    add_box(rug, Vec3f(0.05f, 0.01f, 0.05f), Vec3f(0.25f, 0.02f, 0.45f));
+    s.meshes.push_back(rug);
+    const EmbreeAccel accel(s);
+    EnclosureTest buried;
+    buried.offset_length = max_component(s.bounds().extent());
+    buried.buried_distance = 0.05f;
+    EnclosureTest plain = buried;
+    plain.buried_distance = 0.f;
+    const Vec3f under(0.15f, 0.f, 0.25f), underside(0.15f, 0.01f, 0.25f), top(0.15f, 0.02f, 0.25f), open(0.4f, 0.f, 0.1f);
+    EXPECT_TRUE(is_enclosed(accel, under, {0, 1, 0}, buried));
+    EXPECT_TRUE(is_enclosed(accel, underside, {0, -1, 0}, buried));
+    EXPECT_FALSE(is_enclosed(accel, under, {0, 1, 0}, plain)) << "the rug's underside is a front face";
+    EXPECT_FALSE(is_enclosed(accel, top, {0, 1, 0}, buried));
+    EXPECT_FALSE(is_enclosed(accel, open, {0, 1, 0}, buried));
 }

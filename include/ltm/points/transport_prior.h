@@ -28,6 +28,13 @@
 // blend of the rows of its K nearest visible clusters (ClusterVisibility::receiver_clusters), so
 // the gathered image has no seams where receivers change cluster.
 //
+// Open rooms (VisibilityOptions::open_rays): the rows above sum to 1, as a closed room's form
+// factors do. Where a receiver's hemisphere opens to nothing (the Cornell box's open front, a window,
+// a void beyond the model) that keeps in the room the light that leaves it (the Cornell box's prior
+// was 1.9× too bright). With a closure c per cluster (point_visibility.h: the share of rays that meet
+// a disc), each row sums to the receiver's blended c instead: B_{k+1,j} = ρ_j c_j Σ_i Ĝ_ji B_{k,i}
+// and E⁺(p) = c(p) Σ_j Ĝ_j(p) Σ_k B_{k,j}. c = 1 everywhere is the closed prior exactly.
+//
 // Near field (`patches`): the point formula above, evaluated at the nodes' centres, misses the
 // adjacent wall at a concave edge (a receiver at distance x from the edge sees it over half its
 // hemisphere, through elements within ~x of the edge). With patches, nodes within 2.5 s of a

@@ -14,10 +14,17 @@ struct EnclosureTest {
     /// Floor of the rays' self-intersection offset (offset_ray_origin), in scene units;
     /// enclosed_filter() sets it to the scene's extent, so the test does not depend on the unit.
     float offset_length = 1.f;
+    /// > 0: a ray that meets any surface (either side) within this distance also votes closed, so
+    /// a point buried in a thin gap — the floor under a rug, the wall behind a cabinet, a shelf
+    /// under a book — counts as enclosed: it sees only the gap's other side and the room sees it
+    /// only edge-on, so it carries ~no light, but as a node of the transport prior its cluster's
+    /// visibility lets it trade light with the room. Scene units. 0 = back faces only.
+    float buried_distance = 0.f;
 };
 
 /// True if at least `back_face_fraction` of the rays leaving (p, n) first hit the back side of a
-/// surface, i.e. the point sits inside a closed, outward-facing solid. A first hit on a front face
+/// surface (or, with buried_distance, any surface that near), i.e. the point sits inside a closed,
+/// outward-facing solid (or in a thin gap). A first hit on a front face
 /// that coincides with a back face (within the rays' offset) counts as back, so coincident faces
 /// vote the same whichever of them float rounding puts first. Deterministic (fixed directions).
 /// Limitation: a face pressed against the floor from above (a carpet's underside) looks into the

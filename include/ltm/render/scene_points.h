@@ -17,8 +17,14 @@ struct ScenePoints {
     Vec3f emission_scale;  ///< S_c = Φ_c / A (W/m²) of the sampled surface
 };
 
+/// How near a surface must close a scene point's hemisphere for the point to count as buried
+/// (EnclosureTest::buried_distance), in units of the points' nominal spacing √(A/M).
+constexpr float k_buried_spacings = 0.5f;
+
 /// M scene points of accel.scene() with `seed`; exclude_enclosed drops points inside closed solids
-/// (render/enclosure.h) and shrinks the area A of S by the filter's pass fraction.
-ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed = true);
+/// and buried in gaps thinner than buried_spacings · √(A/M) (render/enclosure.h; 0: solids only) and
+/// shrinks the area A of S by the filter's pass fraction.
+ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed = true,
+                                float buried_spacings = k_buried_spacings);
 
 }  // namespace ltm
