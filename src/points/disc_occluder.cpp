@@ -12,6 +12,7 @@ namespace ltm {
 namespace {
 constexpr float k_grazing = 0.05f;   // |cos| below which a segment runs along a disc, not into it
 constexpr float k_end_margin = 0.25f;   // ε = r/4: hits this close to an end belong to that end's surface
+constexpr float k_ray_margin = 1e-3f;   // a ray's: only its origin's own plane (t = 0) is excluded
 }  // namespace
 
 DiscOccluder::DiscOccluder(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float radius)
@@ -91,7 +92,10 @@ bool DiscOccluder::ray_meets_disc(Vec3f origin, Vec3f direction) const {
     // Far enough to leave the box from anywhere inside or near it (walk clips to the box).
     const Vec3f extent = Vec3f(2.f * m_r * float(m_dim[0]), 2.f * m_r * float(m_dim[1]), 2.f * m_r * float(m_dim[2]));
     const float reach = 2.f * (length(extent) + length(origin - m_origin));
-    return walk(origin, d * reach, k_end_margin * m_r / reach, 1.f, true);
+    // Not the segments' r/4 margin: a point within r/4 of a concave edge would see the adjacent
+    // wall's discs inside the margin and its rays escape behind them (a closed furnace read 2 %
+    // open). The origin's own disc and its coplanar neighbours lie at t = 0 and stay excluded.
+    return walk(origin, d * reach, k_ray_margin * m_r / reach, 1.f, true);
 }
 
 bool DiscOccluder::walk(Vec3f a, Vec3f d, float t0, float t1, bool either_side) const {

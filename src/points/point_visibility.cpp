@@ -236,8 +236,8 @@ int ClusterVisibility::receiver_clusters(Vec3f p, Vec3f n, uint32_t *ids, float 
     return 1;
 }
 
-std::vector<float> cluster_closure(const ClusterVisibility &vis, int rays) {
-    if (vis.discs.empty()) LTM_THROW("cluster closure: needs the points as discs (prior_discs > 0)");
+std::vector<float> cluster_closure(const ClusterVisibility &vis, const DiscOccluder &discs, int rays) {
+    if (discs.empty()) LTM_THROW("cluster closure: needs the points as discs (prior_discs > 0)");
     if (rays < 1 || rays > 256) LTM_THROW("cluster closure: rays per side must be in [1, 256], got ", rays);
     // One pattern of local directions for every centre: cell centres of the square, cosine-mapped.
     std::vector<Vec3f> local;
@@ -249,7 +249,7 @@ std::vector<float> cluster_closure(const ClusterVisibility &vis, int rays) {
         for (int64_t c = lo; c < hi; ++c) {
             const Frame frame(vis.normal[size_t(c)]);
             int met = 0;
-            for (const Vec3f &w : local) met += vis.discs.ray_meets_disc(vis.position[size_t(c)], frame.to_world(w));
+            for (const Vec3f &w : local) met += discs.ray_meets_disc(vis.position[size_t(c)], frame.to_world(w));
             closure[size_t(c)] = float(met) / float(local.size());
         }
     });

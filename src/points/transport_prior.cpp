@@ -329,7 +329,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
             discs ? float(double(spacing) * std::sqrt(2.0 * k_voxels_per_point * double(op.size()) / double(vis.clusters))) : 0.f;
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
                                discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell);
-        if (vis.open_rays > 0) v.closure = cluster_closure(v, vis.open_rays);
+        if (vis.open_rays > 0 && discs) v.closure = cluster_closure(v, DiscOccluder(op, on, k_closure_disc_spacings * spacing), vis.open_rays);
     }
     if (vis.open_rays > 0 && v.closure.empty()) LTM_THROW("transport prior: open_rays needs occlusion by discs");
     v.blend = vis.blend;

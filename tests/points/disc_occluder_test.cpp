@@ -166,7 +166,7 @@ TEST(DiscOccluder, RaysMeetDiscsFromEitherSideUntilTheyLeave) {
             const float denom = dot(room.n[k], d);
             if (!(std::abs(denom) > 0.05f)) continue;
             const float t = dot(room.n[k], room.p[k] - a) / denom;
-            if (!(t > 0.25f * k_s)) continue;
+            if (!(t > 1e-3f * k_s)) continue;
             const Vec3f q = a + d * t - room.p[k];
             if (dot(q, q) < k_s * k_s) return true;
         }

@@ -420,7 +420,7 @@ TEST(PointVisibility, ClosureOfAnOpenBoxIsOneMinusTheFormFactorOfItsOpening) {
         vis.position = {Vec3f(0.5f, 0.f, 0.5f), Vec3f(0.03f, 0.5f, 0.5f)};
         vis.normal = {Vec3f(0, 1, 0), Vec3f(1, 0, 0)};
         vis.discs = DiscOccluder(p, n, 1.f / float(g));
-        const std::vector<float> c = cluster_closure(vis, 32);
+        const std::vector<float> c = cluster_closure(vis, vis.discs, 32);
         ASSERT_EQ(c.size(), 2u);
         const double x = 0.5, f = 4.0 / k_pi * x / std::sqrt(1 + x * x) * std::atan(x / std::sqrt(1 + x * x));
         EXPECT_NEAR(c[0], open ? 1.0 - f : 1.0, 0.015) << (open ? "open" : "closed");
@@ -429,7 +429,7 @@ TEST(PointVisibility, ClosureOfAnOpenBoxIsOneMinusTheFormFactorOfItsOpening) {
     }
     ClusterVisibility none;
     none.position = {Vec3f(0.f)}, none.normal = {Vec3f(0, 1, 0)};
-    EXPECT_THROW(cluster_closure(none, 8), Error) << "no discs";
+    EXPECT_THROW(cluster_closure(none, none.discs, 8), Error) << "no discs";
 }
 
 // A furnace whose every cluster has closure c: each bounce keeps c of the light, so
