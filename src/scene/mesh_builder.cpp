@@ -92,7 +92,7 @@ void transform_mesh(TriangleMesh &mesh, const Transform &xf, size_t first_vertex
 
 bool is_degenerate_triangle(Vec3f p0, Vec3f p1, Vec3f p2) {
     if (!is_finite(p0) || !is_finite(p1) || !is_finite(p2)) return true;
-    // In double: the edges of a 1e-6 sliver are exact differences of floats, the rule is not.
+    // In double, so the rule adds no rounding of its own: the edges are exact differences of floats.
     const double e[3][3] = {{double(p1.x) - p0.x, double(p1.y) - p0.y, double(p1.z) - p0.z},
                             {double(p2.x) - p0.x, double(p2.y) - p0.y, double(p2.z) - p0.z},
                             {double(p2.x) - p1.x, double(p2.y) - p1.y, double(p2.z) - p1.z}};
