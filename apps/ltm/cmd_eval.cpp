@@ -101,7 +101,8 @@ void run(const EvalArgs &a, const CommonOptions &common) {
                 log_warn(s, ": ", w);
             // Named by the file's stem; where two share one (rooms that each ship a scene-v4.pbrt),
             // by their folder: names label rows and grid files.
-            const std::filesystem::path fp(s);
+            // Absolute, so that ./scene.pbrt is named by its folder, not by '.'.
+            const std::filesystem::path fp = s.rfind("builtin:", 0) == 0 ? std::filesystem::path(s) : std::filesystem::absolute(s).lexically_normal();
             std::string name = s.rfind("builtin:", 0) == 0 ? "builtin-" + s.substr(8) : fp.stem().string();
             for (const auto &other : a.scenes)
                 if (&other != &s && other.rfind("builtin:", 0) != 0 && std::filesystem::path(other).stem() == fp.stem() &&

@@ -46,6 +46,9 @@ void run(const ExportArgs &a, const CommonOptions &) {
     if (!a.overrides.empty()) {
         // The prior's settings are computed at inference from the scene points, so they change
         // what the weights predict but not their shapes; any other key would.
+        // Weights without a physics section (v0.3) read as PhysicsConfig::legacy(); a physics object
+        // added by --set would be read over the new defaults and switch on what they never had.
+        if (!model->cfg.physics.any()) LTM_THROW("--set: ", a.input, " has no physics settings (v0.3 weights): nothing to override");
         Json j = model->cfg.to_json();
         for (const auto &o : a.overrides) {
             if (o.rfind("physics.prior_", 0) != 0) LTM_THROW("--set ", o, ": only physics.prior_* keys can change in export");

@@ -119,6 +119,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                 LTM_THROW(ph.where("prior_balance"), ": the power balance applies only with prior_visibility > 0");
             if (p.prior_blend != PhysicsConfig{}.prior_blend && !(p.prior_visibility > 0.f))
                 LTM_THROW(ph.where("prior_blend"), ": blending occlusion clusters needs prior_visibility > 0");
+            if (p.prior_open_rays > 0 && p.prior_balance != "none")
+                LTM_THROW(ph.where("prior_open_rays"), ": the power balance restores a closed room's level and would undo the open share: needs prior_balance \"none\"");
             if (p.prior_open_rays > 0 && !(p.prior_discs > 0.f))
                 LTM_THROW(ph.where("prior_open_rays"), ": the open share is measured against the discs: needs prior_discs > 0");
             if (p.prior_discs > 0.f && !(p.prior_visibility > 0.f))

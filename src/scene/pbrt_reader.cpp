@@ -142,12 +142,6 @@ public:
             LTM_THROW(file, ": no area lights; its ", m_skipped_lights,
                       " LightSource(s) (point, spot, infinite, distant, ...) are out of scope: ltm supports area lights only "
                       "(AreaLightSource \"diffuse\")");
-        // Real files hold slivers and specks (a kitchen of 1.4 M triangles: one of 2e-11 m²) that
-        // pbrt-v4 renders past: dropped in world space by the rule validation checks.
-        const size_t total = m_scene.n_triangles();
-        if (const size_t dropped = drop_degenerate_triangles(m_scene))
-            warn(detail::concat(dropped, " of ", total, " triangles dropped as degenerate (slivers or specks: no visible surface)"));
-        for (const auto &[msg, count] : m_warnings) log_warn(file, ": ", msg, count > 1 ? detail::concat(" (", count, "×)") : "");
         // Handedness and up axis (see pbrt_reader.h), decided by the camera.
         Mat4 fix;
         bool mirror = true;
@@ -188,6 +182,13 @@ public:
             fix.m[0][0] = -1;
         }
         for (auto &mesh : m_scene.meshes) transform_mesh(mesh, fix.to_transform());
+        // Real files hold slivers and specks (a kitchen of 1.4 M triangles: one of 2e-11 m²) that
+        // pbrt-v4 renders past: dropped by the rule validation checks, after the last transform (the
+        // up-axis turn rounds every vertex again, and a sliver kept before it could fail after).
+        const size_t total = m_scene.n_triangles();
+        if (const size_t dropped = drop_degenerate_triangles(m_scene))
+            warn(detail::concat(dropped, " of ", total, " triangles dropped as degenerate (slivers or specks: no visible surface)"));
+        for (const auto &[msg, count] : m_warnings) log_warn(file, ": ", msg, count > 1 ? detail::concat(" (", count, "×)") : "");
         if (cam) m_scene.cameras.push_back(*cam);
         m_scene.metadata["pbrt"] = {{"file", file}, {"mirrored_x", mirror}, {"up_axis", up_axis},
                                     {"unit", "unspecified (pbrt has no unit of length)"}};

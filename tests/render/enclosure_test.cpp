@@ -148,7 +148,7 @@ TEST(Enclosure, PointsBuriedInAThinGapCountAsEnclosed) {
     Scene s = cornell_box();
     TriangleMesh rug;
     rug.name = "rug", rug.material = 0;
-    add_box(rug, Vec3f(0.05f, 0.01f, 0.05f), Vec3f(0.25f, 0.02f, 0.45f));
+    add_box(rug, Vec3f(0.33f, 0.01f, 0.02f), Vec3f(0.52f, 0.02f, 0.2f));   // clear floor, before the tall block
     s.meshes.push_back(rug);
     const EmbreeAccel accel(s);
     EnclosureTest buried;
@@ -156,7 +156,7 @@ TEST(Enclosure, PointsBuriedInAThinGapCountAsEnclosed) {
     buried.buried_distance = 0.05f;
     EnclosureTest plain = buried;
     plain.buried_distance = 0.f;
-    const Vec3f under(0.15f, 0.f, 0.25f), underside(0.15f, 0.01f, 0.25f), top(0.15f, 0.02f, 0.25f), open(0.4f, 0.f, 0.1f);
+    const Vec3f under(0.42f, 0.f, 0.11f), underside(0.42f, 0.01f, 0.11f), top(0.42f, 0.02f, 0.11f), open(0.2f, 0.f, 0.45f);
     EXPECT_TRUE(is_enclosed(accel, under, {0, 1, 0}, buried));
     EXPECT_TRUE(is_enclosed(accel, underside, {0, -1, 0}, buried));
     EXPECT_FALSE(is_enclosed(accel, under, {0, 1, 0}, plain)) << "the rug's underside is a front face";
