@@ -9,6 +9,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
+#include "ltm/core/sampling.h"
 #include "ltm/points/point_visibility.h"
 #include "ltm/points/transport_prior.h"
 #include "point_rooms.h"
@@ -450,6 +451,23 @@ TEST(PointVisibility, ClosureScalesEveryRowOfTheFurnace) {
             for (int k = 0; k < d; ++k) series += (term *= 0.5 * double(c));
             const double expect = double(c) * k_pi * double(pts.le[0][ch]) * series;
             for (size_t q = 0; q < 2; ++q) EXPECT_NEAR(e[3 * q + size_t(ch)], expect, 1e-3 * expect) << "c " << c << " channel " << ch;
+        }
+        // The directional gather carries the same closure: its R × R cells, read at their centres,
+        // integrate to E⁺ (π/R² · Σ L̂ = E⁺).
+        const int R = 4;
+        const Vec3f p(1.f, 0.01f, 1.f), n(0, 1, 0);
+        const Frame frame(n);
+        std::vector<Vec3f> ps, ns, ds;
+        for (int a = 0; a < R; ++a)
+            for (int b = 0; b < R; ++b)
+                ps.push_back(p), ns.push_back(n),
+                    ds.push_back(frame.to_world(sample_cosine_hemisphere({(float(a) + 0.5f) / float(R), (float(b) + 0.5f) / float(R)})));
+        std::vector<float> l(3 * ps.size());
+        gather_transport_prior_radiance(t, &ps[0].x, &ns[0].x, 3, &ds[0].x, 3, ps.size(), R, l.data());
+        for (int ch = 0; ch < 3; ++ch) {
+            double sum = 0;
+            for (size_t k = 0; k < ps.size(); ++k) sum += double(l[3 * k + size_t(ch)]);
+            EXPECT_NEAR(k_pi / double(R * R) * sum, double(e[size_t(ch)]), 1e-4 * double(e[size_t(ch)])) << "c " << c << " channel " << ch;
         }
     }
 }
