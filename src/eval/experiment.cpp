@@ -135,6 +135,11 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 if (mi == 0) first_model_seconds = secs;
                 add("model:" + models[mi].name, pred, secs, 0);
                 model_images.push_back(pred);
+                // The model's own prior, the network silenced: what the network adds is the row above against this.
+                const auto t_prior_row = Clock::now();
+                const Image prior_only = scatter_to_image(gb, predict_gbuffer_prior(encoded[mi], gb));
+                add("model-prior:" + models[mi].name, prior_only,
+                    e.sample_seconds + e.geometry_seconds + std::chrono::duration<double>(Clock::now() - t_prior_row).count(), 0);
                 if (opt.gi_stride > 1) {
                     GiUpsampleOptions gi;
                     gi.stride = opt.gi_stride;

@@ -79,6 +79,24 @@ std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const 
 }
 }  // namespace
 
+std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer &gb) {
+    torch::NoGradGuard no_grad;
+    const int64_t n = int64_t(gb.n_hits());
+    std::vector<Vec3f> out(static_cast<size_t>(n));
+    if (n == 0) return out;
+    auto q = torch::empty({n, 9});
+    float *qp = q.data_ptr<float>();
+    for (int64_t k = 0; k < n; ++k) write_query_row(qp + k * 9, gb.position[size_t(k)], gb.normal[size_t(k)], gb.albedo[size_t(k)]);
+    // As LtmModelImpl::predict_irradiance's folded path: z = softplus(0) whatever the latents.
+    const auto &norm = enc.latents.norm;
+    const auto z = torch::softplus(torch::zeros({n, 3}, norm.output.options()));
+    const auto e = irradiance_from_z(z, output_scale(q.to(norm.output.device()), norm)).to(torch::kCPU, torch::kFloat32).contiguous();
+    TORCH_CHECK(e.sizes() == torch::IntArrayRef({n, 3}), "predict_gbuffer_prior: prior returned ", e.sizes());
+    const float *ep = e.data_ptr<float>();
+    for (int64_t k = 0; k < n; ++k) out[size_t(k)] = {ep[k * 3], ep[k * 3 + 1], ep[k * 3 + 2]};
+    return out;
+}
+
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {
     if (timings) *timings = {};
     return predict_hits(model, enc, gb, nullptr, timings);

@@ -208,7 +208,9 @@ TEST(Cli, NeuralRenderAndEvalSmoke) {
     ASSERT_EQ(r.code, 0) << r.err;
     const Json rep = parse_json_file(dir.path("ev/report.json"));
     EXPECT_EQ(rep["views"].size(), 2u);
-    for (const char *m : {"model:ours", "model:again", "pt2", "pt-equal-time"}) EXPECT_TRUE(rep["summary"].contains(m)) << m;
+    for (const char *m : {"model:ours", "model:again", "model-prior:ours", "pt2", "pt-equal-time"}) EXPECT_TRUE(rep["summary"].contains(m)) << m;
+    // The tiny random model's network is active: its row is not its prior's.
+    EXPECT_NE(rep["summary"]["model:ours"]["mse"]["mean"], rep["summary"]["model-prior:ours"]["mse"]["mean"]);
     // The same weights give the same metrics: the ablation path is the model path.
     EXPECT_EQ(rep["summary"]["model:ours"]["mse"]["mean"], rep["summary"]["model:again"]["mse"]["mean"]);
     EXPECT_NE(read_file(dir.path("ev/table.md")).find("| pt-equal-time |"), std::string::npos);

@@ -38,6 +38,11 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
 /// Ê⁺ at the G-buffer's hit points (normal on the side facing the eye).  -> one Vec3f per hit.
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
                                    PredictTimings *timings = nullptr);
+/// The model's own closed-form prior at the G-buffer's hits, the network silenced: Ê⁺ as a zero
+/// output layer gives it, irradiance_from_z(softplus(0), output_scale) = the prior's value (its
+/// config, its scene points, its emission and length normalisation). The `model-prior` rows of
+/// `ltm eval`: what the network adds is the model row against this one.  -> one Vec3f per hit.
+std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer &gb);
 /// The same, decoded on a pixel lattice and interpolated (render/gi_upsample.h); opt.stride 1 is
 /// predict_gbuffer. n_decoded receives the number of queries actually decoded.
 std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
