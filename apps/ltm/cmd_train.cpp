@@ -94,8 +94,8 @@ void declare(CLI::App &sub, TrainArgs &a) {
         ->check(CLI::IsMember({"none", "encoder"}));
     sub.add_option("--device", a.device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
     sub.add_option("--nproc", a.nproc,
-                   "Data-parallel ranks to launch on this machine (torchrun's variables; scenes_per_step must be a "
-                   "multiple); a process started with WORLD_SIZE/RANK set joins that group instead")
+                   "Data-parallel ranks to launch on this machine (torchrun's variables; scenes_per_step and batch_queries "
+                   "are per rank); a process started with WORLD_SIZE/RANK set joins that group instead")
         ->capture_default_str()->check(CLI::Range(1, 256));
     sub.add_option("--dist-timeout", a.dist_timeout, "Seconds to wait for the other ranks (rendezvous, each collective)")
         ->capture_default_str()->check(CLI::PositiveNumber);

@@ -27,8 +27,8 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
     static const ConfigFields<C> f =
         ConfigFields<C>()
             .field("steps", &C::steps, "optimizer steps", at_least(1))
-            .field("batch_queries", &C::batch_queries, "query points per step (paper: 8192), split evenly over the step's scenes", at_least(1))
-            .field("scenes_per_step", &C::scenes_per_step, "scenes encoded per step, K (note 1); a multiple of the ranks' count when data-parallel", at_least(1))
+            .field("batch_queries", &C::batch_queries, "query points per step and rank (paper: 8192), split evenly over the rank's scenes", at_least(1))
+            .field("scenes_per_step", &C::scenes_per_step, "scenes encoded per step and rank (note 1); W data-parallel ranks train W times as many", at_least(1))
             .field("lr", &C::lr, "peak learning rate (AdamW)", positive())
             .field("min_lr_ratio", &C::min_lr_ratio, "cosine decay ends at lr·ratio (1: constant after warm-up)", between(0, 1))
             .field("warmup_steps", &C::warmup_steps, "linear warm-up from 0", at_least(0))
@@ -173,12 +173,15 @@ TrainStepLog Trainer::train_step() {
     // Scene draw u = t·K + k (K scenes per step): every random choice is a function of (seed, u),
     // so K = 1 repeats the one-scene trainer exactly. Scenes follow a seeded permutation per epoch;
     // queries are uniform with replacement; the batch's queries are split evenly over the K scenes.
-    const int64_t K = m_cfg.scenes_per_step;
+    // Per rank, as torchrun users expect: each of W ranks trains scenes_per_step scenes over
+    // batch_queries queries, so the step's global batch is K = W · scenes_per_step scenes and
+    // W · batch_queries queries (one process: W = 1, the single-process trainer exactly).
+    const int64_t W = m_comm->world_size(), r = m_comm->rank();
+    const int64_t K_rank = m_cfg.scenes_per_step, K = K_rank * W, B = int64_t(m_cfg.batch_queries) * W;
     const size_t n = m_train_paths.size();
     TrainStepLog log{t, 0.0, lr, 0.0, false};
     // This rank's block of the K draws (all of them in one process).
-    const int64_t W = m_comm->world_size(), r = m_comm->rank();
-    for (int64_t k = r * K / W; k < (r + 1) * K / W && !log.skipped; ++k) {
+    for (int64_t k = r * K_rank; k < (r + 1) * K_rank && !log.skipped; ++k) {
         const uint64_t u = uint64_t(t * K + k);
         const uint64_t epoch = u / n;
         std::vector<size_t> perm(n);
@@ -187,7 +190,7 @@ TrainStepLog Trainer::train_step() {
         for (size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[perm_rng.next_below(uint32_t(i))]);
         CachedScene &sc = scene(perm[u % n]);
         const int64_t nq = sc.query_points.size(0);
-        const int64_t share = m_cfg.batch_queries / K + (k < m_cfg.batch_queries % K ? 1 : 0);
+        const int64_t share = B / K + (k < B % K ? 1 : 0);
         // One of the 8 horizontal symmetries per scene draw (train/augment.h): targets and cached FPS/kNN stay valid.
         const int sym = m_cfg.augment ? int(hash_keys({m_cfg.seed, 0xa06e47ull, u}) % k_n_symmetries) : 0;
         if (m_cfg.head == "directional") {
@@ -249,9 +252,6 @@ void Trainer::all_reduce_gradients() {
 
 void Trainer::set_communicator(std::shared_ptr<Communicator> comm) {
     if (!comm) comm = std::make_shared<Communicator>(DistSettings{}, "");   // a group of one
-    if (m_cfg.scenes_per_step % comm->world_size() != 0)
-        LTM_THROW("scenes_per_step ", m_cfg.scenes_per_step, " is not a multiple of the world size ", comm->world_size(),
-                  " (each rank trains scenes_per_step / WORLD_SIZE scenes per step)");
     m_comm = std::move(comm);
 }
 
@@ -532,7 +532,7 @@ void Trainer::run(bool resume, int64_t stop_at) {
             const double mean_loss = loss_since / double(steps_since);
             OrderedJson j = {{"step", s.step}, {"loss", mean_loss}, {"lr", s.lr}, {"grad_norm", s.grad_norm},
                              {"skipped", s.skipped}, {"steps_per_s", double(steps_since) / dt},
-                             {"queries_per_s", double(steps_since * m_cfg.batch_queries) / dt}};
+                             {"queries_per_s", double(steps_since * m_cfg.batch_queries * m_comm->world_size()) / dt}};
             log << j.dump() << "\n" << std::flush;
             log_info("step ", m_step, "/", m_cfg.steps, " loss ", mean_loss, " lr ", s.lr, " ", double(steps_since) / dt, " steps/s");
             t_last = std::chrono::steady_clock::now();
