@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -63,21 +62,18 @@ int main(int argc, char **argv) {
     const std::string range = argv[1];
     // Scenes: a seed range A:B of generated houses, or scene files (and builtin:NAME) separated by commas.
     std::vector<std::pair<std::string, std::string>> scene_list;   // (name, path; empty path: a seed)
-    if (range.find_first_not_of("0123456789:") == std::string::npos) {
+    if (is_seed_range(range)) {
         const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
         for (uint64_t seed = lo; seed < hi; ++seed) scene_list.emplace_back("seed-" + std::to_string(seed), "");
     } else {
+        std::vector<std::string> paths;
         for (size_t b = 0; b <= range.size();) {
             const size_t e = std::min(range.find(',', b), range.size());
-            const std::string path = range.substr(b, e - b);
-            const std::filesystem::path fp(path);
-            // rooms that each ship scene-v4.pbrt are named by their folder
-            std::string name = path.rfind("builtin:", 0) == 0 ? "builtin-" + path.substr(8)
-                               : fp.stem() == "scene-v4" || fp.stem() == "scene" ? fp.parent_path().filename().string()
-                                                                                 : fp.stem().string();
-            scene_list.emplace_back(name, path);
+            paths.push_back(range.substr(b, e - b));
             b = e + 1;
         }
+        const std::vector<std::string> labels = scene_labels(paths);   // as ltm eval names them
+        for (size_t i = 0; i < paths.size(); ++i) scene_list.emplace_back(labels[i], paths[i]);
     }
     const std::string cache = argv[2];
     const int size = argc > 3 ? std::atoi(argv[3]) : 64, ref_spp = argc > 4 ? std::atoi(argv[4]) : 256;

@@ -1,7 +1,6 @@
 // cmd_eval.cpp: `ltm eval --model M --scenes 900000:900050 --views 2 -o DIR` → report.json,
 // table.md and one PNG grid per scene and view (eval/experiment.h); --physics adds physics.json and
 // physics.md (eval/physics_check.h); --radiance adds radiance.json and radiance.md (eval/radiance_eval.h).
-#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +8,7 @@
 #include "cli.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
+#include "ltm/eval/eval_setup.h"
 #include "ltm/eval/experiment.h"
 #include "ltm/eval/physics_check.h"
 #include "ltm/eval/radiance_eval.h"
@@ -87,11 +87,10 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     // Scenes: seed ranges are generated in memory, files are loaded.
     const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
     std::vector<EvalScene> scenes;
+    const std::vector<std::string> labels = scene_labels(a.scenes);
+    size_t next_label = 0;
     for (const auto &s : a.scenes) {
-        // A seed range is digits:digits; anything else (a file, builtin:NAME) is a scene to load.
-        const bool seed_range = s.find(':') != std::string::npos && !std::filesystem::exists(s) &&
-                                s.find_first_not_of("0123456789:") == std::string::npos;
-        if (seed_range) {
+        if (is_seed_range(s)) {
             const auto [lo, hi] = parse_seed_range(s, "--scenes");
             for (uint64_t seed = lo; seed < hi; ++seed)
                 scenes.push_back({"seed-" + std::to_string(seed), generate_indoor(gen, seed).scene});
@@ -99,16 +98,7 @@ void run(const EvalArgs &a, const CommonOptions &common) {
             Scene sc = load_scene(s);
             for (const auto &w : scene_range_warnings(sc, models.empty() || models.front().model->cfg.physics.length_scale))
                 log_warn(s, ": ", w);
-            // Named by the file's stem; where two share one (rooms that each ship a scene-v4.pbrt),
-            // by their folder: names label rows and grid files.
-            // Absolute, so that ./scene.pbrt is named by its folder, not by '.'.
-            const std::filesystem::path fp = s.rfind("builtin:", 0) == 0 ? std::filesystem::path(s) : std::filesystem::absolute(s).lexically_normal();
-            std::string name = s.rfind("builtin:", 0) == 0 ? "builtin-" + s.substr(8) : fp.stem().string();
-            for (const auto &other : a.scenes)
-                if (&other != &s && other.rfind("builtin:", 0) != 0 && std::filesystem::path(other).stem() == fp.stem() &&
-                    !fp.parent_path().filename().empty())
-                    name = fp.parent_path().filename().string();
-            scenes.push_back({name, std::move(sc)});
+            scenes.push_back({labels[next_label++], std::move(sc)});
         }
     }
     if (scenes.empty()) LTM_THROW("--scenes: no scenes");

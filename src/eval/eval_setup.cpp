@@ -2,6 +2,7 @@
 #include "ltm/eval/eval_setup.h"
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "ltm/core/error.h"
@@ -28,6 +29,33 @@ Camera eval_view_camera(const Scene &scene, int v, int n, int width, int height)
         cam.name += "-yaw" + std::to_string(360 * v / n);
     }
     return cam;
+}
+
+bool is_seed_range(const std::string &spec) {
+    return spec.find(':') != std::string::npos && spec.find_first_not_of("0123456789:") == std::string::npos &&
+           !std::filesystem::exists(spec);
+}
+
+std::vector<std::string> scene_labels(const std::vector<std::string> &specs) {
+    namespace fs = std::filesystem;
+    const std::string builtin = "builtin:";
+    auto is_file = [&](const std::string &s) { return !is_seed_range(s) && s.rfind(builtin, 0) != 0; };
+    std::vector<std::string> out;
+    for (const auto &s : specs) {
+        if (is_seed_range(s)) continue;
+        if (!is_file(s)) {
+            out.push_back("builtin-" + s.substr(builtin.size()));
+            continue;
+        }
+        // Absolute, so that ./scene.pbrt is named by its folder, not by '.'.
+        const fs::path fp = fs::absolute(s).lexically_normal();
+        std::string name = fp.stem().string();
+        for (const auto &other : specs)
+            if (&other != &s && is_file(other) && fs::path(other).stem() == fp.stem() && !fp.parent_path().filename().empty())
+                name = fp.parent_path().filename().string();
+        out.push_back(name);
+    }
+    return out;
 }
 
 std::optional<EvalView> eval_view(const EmbreeAccel &accel, const std::string &scene_name, int v, int n, int width, int height) {

@@ -56,45 +56,50 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
 }
 
 namespace {
-// Ê⁺ at the G-buffer hits listed in `hits` (all hits if null), in that order.
-std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
-                                const std::vector<size_t> *hits, PredictTimings *timings) {
+// Query points [n, 9] of the G-buffer hits listed in `hits` (all hits if null), in that order:
+// p, n (facing the eye), albedo, as in the dataset's query_point_columns().
+torch::Tensor gbuffer_queries(const GBuffer &gb, const std::vector<size_t> *hits) {
     const int64_t n = hits ? int64_t(hits->size()) : int64_t(gb.n_hits());
-    std::vector<Vec3f> out(static_cast<size_t>(n));
-    if (n == 0) return out;
-    // Query points [n, 9]: p, n (facing the eye), albedo, as in the dataset's query_point_columns().
     auto q = torch::empty({n, 9});
     float *qp = q.data_ptr<float>();
     for (int64_t k = 0; k < n; ++k) {
         const size_t h = hits ? (*hits)[size_t(k)] : size_t(k);
         write_query_row(qp + k * 9, gb.position[h], gb.normal[h], gb.albedo[h]);
     }
-    PredictTimings t;
-    const auto e = model->predict_irradiance(q, enc.latents, 16384, &t).contiguous();
-    TORCH_CHECK(e.sizes() == torch::IntArrayRef({n, 3}), "predict_gbuffer: model returned ", e.sizes());
-    if (timings) timings->knn += t.knn, timings->decode += t.decode;
-    const float *ep = e.data_ptr<float>();
+    return q;
+}
+
+// Rows of an [n, 3] irradiance tensor (any device) as Vec3f.
+std::vector<Vec3f> rows_of(const torch::Tensor &e, int64_t n, const char *what) {
+    TORCH_CHECK(e.sizes() == torch::IntArrayRef({n, 3}), what, ": returned ", e.sizes());
+    const auto c = e.to(torch::kCPU, torch::kFloat32).contiguous();
+    const float *ep = c.data_ptr<float>();
+    std::vector<Vec3f> out(static_cast<size_t>(n));
     for (int64_t k = 0; k < n; ++k) out[size_t(k)] = {ep[k * 3], ep[k * 3 + 1], ep[k * 3 + 2]};
     return out;
+}
+
+// Ê⁺ at the G-buffer hits listed in `hits` (all hits if null), in that order.
+std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
+                                const std::vector<size_t> *hits, PredictTimings *timings) {
+    const int64_t n = hits ? int64_t(hits->size()) : int64_t(gb.n_hits());
+    if (n == 0) return {};
+    PredictTimings t;
+    const auto e = model->predict_irradiance(gbuffer_queries(gb, hits), enc.latents, 16384, &t);
+    if (timings) timings->knn += t.knn, timings->decode += t.decode;
+    return rows_of(e, n, "predict_gbuffer: model");
 }
 }  // namespace
 
 std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer &gb) {
     torch::NoGradGuard no_grad;
     const int64_t n = int64_t(gb.n_hits());
-    std::vector<Vec3f> out(static_cast<size_t>(n));
-    if (n == 0) return out;
-    auto q = torch::empty({n, 9});
-    float *qp = q.data_ptr<float>();
-    for (int64_t k = 0; k < n; ++k) write_query_row(qp + k * 9, gb.position[size_t(k)], gb.normal[size_t(k)], gb.albedo[size_t(k)]);
+    if (n == 0) return {};
     // As LtmModelImpl::predict_irradiance's folded path: z = softplus(0) whatever the latents.
     const auto &norm = enc.latents.norm;
     const auto z = torch::softplus(torch::zeros({n, 3}, norm.output.options()));
-    const auto e = irradiance_from_z(z, output_scale(q.to(norm.output.device()), norm)).to(torch::kCPU, torch::kFloat32).contiguous();
-    TORCH_CHECK(e.sizes() == torch::IntArrayRef({n, 3}), "predict_gbuffer_prior: prior returned ", e.sizes());
-    const float *ep = e.data_ptr<float>();
-    for (int64_t k = 0; k < n; ++k) out[size_t(k)] = {ep[k * 3], ep[k * 3 + 1], ep[k * 3 + 2]};
-    return out;
+    return rows_of(irradiance_from_z(z, output_scale(gbuffer_queries(gb, nullptr).to(norm.output.device()), norm)), n,
+                   "predict_gbuffer_prior: prior");
 }
 
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {

@@ -102,9 +102,7 @@ public:
             for (size_t i = 0; i < m_model.nodes.size(); ++i) roots.push_back(int(i));
         }
         for (int r : roots) visit(r, Transform(), 0);
-        const size_t total = m_scene.n_triangles();
-        if (const size_t dropped = drop_degenerate_triangles(m_scene))
-            warn(detail::concat(dropped, " of ", total, " triangles dropped as degenerate (slivers or specks: no visible surface)"));
+        if (const std::string dropped = drop_degenerate_triangles(m_scene); !dropped.empty()) warn(dropped);
         for (const auto &[msg, count] : m_warnings) log_warn(m_where, ": ", msg, count > 1 ? detail::concat(" (", count, "×)") : "");
         m_scene.metadata["gltf"] = {{"file", m_where}, {"unit", "m"}, {"up_axis", "+y"}};
         return std::move(m_scene);

@@ -115,12 +115,14 @@ size_t drop_degenerate_triangles(TriangleMesh &mesh) {
     return dropped;
 }
 
-size_t drop_degenerate_triangles(Scene &scene) {
+std::string drop_degenerate_triangles(Scene &scene) {
+    const size_t total = scene.n_triangles();
     size_t dropped = 0;
     for (auto &mesh : scene.meshes) dropped += drop_degenerate_triangles(mesh);
     scene.meshes.erase(std::remove_if(scene.meshes.begin(), scene.meshes.end(), [](const TriangleMesh &m) { return m.n_triangles() == 0; }),
                        scene.meshes.end());
-    return dropped;
+    if (dropped == 0) return "";
+    return std::to_string(dropped) + " of " + std::to_string(total) + " triangles dropped as degenerate (slivers or specks: no visible surface)";
 }
 
 }  // namespace ltm

@@ -128,9 +128,7 @@ Scene obj_to_scene(const tinyobj::ObjReader &reader, const std::string &path, bo
             s.meshes.push_back(std::move(m));
         }
     }
-    const size_t total = s.n_triangles();
-    if (const size_t dropped = drop_degenerate_triangles(s))
-        log_warn(path, ": ", dropped, " of ", total, " triangles dropped as degenerate (slivers or specks: no visible surface)");
+    if (const std::string dropped = drop_degenerate_triangles(s); !dropped.empty()) log_warn(path, ": ", dropped);
     if (used_default) {
         Material m;
         m.name = "default";

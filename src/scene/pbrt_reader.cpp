@@ -185,9 +185,7 @@ public:
         // Real files hold slivers and specks (a kitchen of 1.4 M triangles: one of 2e-11 m²) that
         // pbrt-v4 renders past: dropped by the rule validation checks, after the last transform (the
         // up-axis turn rounds every vertex again, and a sliver kept before it could fail after).
-        const size_t total = m_scene.n_triangles();
-        if (const size_t dropped = drop_degenerate_triangles(m_scene))
-            warn(detail::concat(dropped, " of ", total, " triangles dropped as degenerate (slivers or specks: no visible surface)"));
+        if (const std::string dropped = drop_degenerate_triangles(m_scene); !dropped.empty()) warn(dropped);
         for (const auto &[msg, count] : m_warnings) log_warn(file, ": ", msg, count > 1 ? detail::concat(" (", count, "×)") : "");
         if (cam) m_scene.cameras.push_back(*cam);
         m_scene.metadata["pbrt"] = {{"file", file}, {"mirrored_x", mirror}, {"up_axis", up_axis},

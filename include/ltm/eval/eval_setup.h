@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/path_tracer.h"
@@ -21,8 +22,17 @@ enum class EvalRole : uint64_t { reference = 1, baseline = 2, equal_time = 3, ne
 PathTracerConfig eval_tracer_config(uint64_t seed, EvalRole role);
 
 /// View v of n: the scene's first camera turned about its eye by 360°·v/n (yaw about +y), resized.
-/// Throws when the scene has no camera.
+/// A scene without a camera is seen from `ltm render`'s automatic camera (render/preview.h).
 Camera eval_view_camera(const Scene &scene, int v, int n, int width, int height);
+
+/// Is a --scenes entry a generator seed range A:B (digits:digits), not a scene to load (a file,
+/// builtin:NAME)? A file of that name that exists is a scene.
+bool is_seed_range(const std::string &spec);
+/// The label of each scene to load in `specs` (seed ranges are skipped: they name their scenes
+/// seed-N), in order: builtin:NAME → builtin-NAME; a file → its stem, or, where another entry has
+/// the same stem (rooms that each ship a scene-v4.pbrt), its folder's name. Labels name report rows
+/// and grid files.
+std::vector<std::string> scene_labels(const std::vector<std::string> &specs);
 
 /// One view of an evaluation: its camera and the G-buffer every method is compared at.
 struct EvalView {

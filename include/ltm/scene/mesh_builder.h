@@ -2,6 +2,8 @@
 // consistent winding and metric uvs, used by the built-in scenes and the generator.
 #pragma once
 
+#include <string>
+
 #include "ltm/scene/mesh.h"
 #include "ltm/scene/scene.h"
 
@@ -34,9 +36,10 @@ inline bool is_degenerate_triangle(const TriangleMesh &mesh, size_t tri) {
 /// Removes the degenerate triangles (is_degenerate_triangle); returns how many were removed.
 size_t drop_degenerate_triangles(TriangleMesh &mesh);
 /// The same over a scene's meshes (in world space: after every transform and instancing), removing
-/// the meshes left empty. The readers of foreign formats (pbrt, glTF, OBJ) call it once with one
-/// warning, so a real file that pbrt-v4 renders loads; validate_scene refuses what it would drop.
-size_t drop_degenerate_triangles(Scene &scene);
+/// the meshes left empty. The readers of foreign formats (pbrt, glTF, OBJ) call it once and print
+/// what it returns — the one warning ("N of T triangles dropped as degenerate …"), empty when
+/// nothing was dropped — so a real file that pbrt-v4 renders loads; validate_scene refuses what it would drop.
+std::string drop_degenerate_triangles(Scene &scene);
 
 /// Applies an affine transform to every vertex appended from index `first_vertex` on;
 /// flips the winding of the affected triangles if the transform mirrors.
