@@ -12,6 +12,7 @@
 #   scripts/device/ltm-gpu.sh bench STEPS      foreground training steps/s on what is baked so far
 #   scripts/device/ltm-gpu.sh status           bake/train progress
 #   scripts/device/ltm-gpu.sh collect          weights (split into <16 MiB parts) + logs into $OUT
+#   scripts/device/ltm-gpu.sh session          issue #30's whole device session in one call (below)
 set -euo pipefail
 
 PREFIX=/opt/ltmdeps
@@ -34,7 +35,7 @@ env_setup() {
 DEBS=(libcli11-dev libembree-dev libembree3-3 libfmt-dev libfmt9 libgmock-dev libgtest-dev libimath-3-1-29
       libimath-dev libnanoflann-dev libopenexr-3-1-30 libopenexr-dev libspdlog-dev libspdlog1.10 libstb-dev libstb0
       libtbb-dev libtbb12 libtbbbind-2-5 libtbbmalloc2 libtinyobjloader-dev libtinyobjloader2rc10
-      nlohmann-json3-dev pkgconf pkgconf-bin libpkgconf3 zlib1g-dev zlib1g)
+      libtinygltf-dev libtinygltf2d nlohmann-json3-dev pkgconf pkgconf-bin libpkgconf3 zlib1g-dev zlib1g)
 
 cmd_fetch() {
   mkdir -p .devdeps/debs
@@ -69,7 +70,7 @@ int main() { return torch::ones({1}).item<int>() - 1; }' > /tmp/stdprobe.cpp
     -DPKG_CONFIG_EXECUTABLE=$PREFIX/usr/bin/pkgconf \
     -DCMAKE_CUDA_ARCHITECTURES=90 > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
   echo "setup: configured in $((SECONDS - t0)) s (C++$std)"
-  cmake --build "$BUILD" -j16 --target ltm gpu_tests nn_tests ptv3_tests -- -k 0 > "$OUT/build.log" 2>&1 || { grep -B2 -A12 "error" "$OUT/build.log" | head -80; exit 1; }
+  cmake --build "$BUILD" -j16 --target ${TARGETS:-ltm gpu_tests nn_tests ptv3_tests} -- -k 0 > "$OUT/build.log" 2>&1 || { grep -B2 -A12 "error" "$OUT/build.log" | head -80; exit 1; }
   echo "setup: built in $((SECONDS - t0)) s"
 }
 
@@ -129,6 +130,53 @@ cmd_collect() {
   echo "collect: $(basename "$ck") exported"
 }
 
+# One prepared call (device time is short, ~15 min a session with the machine's start): build ltm,
+# bake camera-query records (cpu-s32v: 16 384 queries, 75 % where views look, 32 spp) of unused
+# seeds on the 16 cores until BAKE_UNTIL s, then train two sizes side by side on the GPU from
+# their prior (--start-at-prior; the first validation is the prior's own score) until BUDGET s,
+# and bring back each size's best weights (F16) and logs. Seeds 300000+ are used nowhere else.
+cmd_session() {
+  local t0=$SECONDS budget=${BUDGET:-520} bake_until=${BAKE_UNTIL:-240} data=/tmp/ltm-data/s32v
+  TARGETS=ltm cmd_setup
+  rm -f "$OUT/configure.log" "$OUT/build.log"   # at most 8 files come back
+  env_setup
+  local ltm=$BUILD/apps/ltm/ltm
+  mkdir -p $data
+  "$ltm" dataset build --config configs/data/cpu-s32v.json --seed-range 300000:304000 -o $data > "$OUT/bake.log" 2>&1 &
+  local bake=$!
+  while (( SECONDS - t0 < bake_until )) && kill -0 $bake 2>/dev/null; do sleep 5; done
+  kill $bake 2>/dev/null || true; wait $bake 2>/dev/null || true
+  find $data -name '*.tmp*' -delete
+  echo "session: $(ls $data/scene-*.safetensors | wc -l) records baked by $((SECONDS - t0)) s"
+  local pids=()
+  for m in ${MODELS:-cpu-pi small-pi}; do
+    rm -rf /tmp/ltm-runs/$m
+    "$ltm" train --model configs/model/$m.json --data $data --out /tmp/ltm-runs/$m --device cuda --start-at-prior \
+      --config configs/train/default.json --threads 8 --set loss=level-l2 --set lr=${LR:-5e-4} --set steps=${STEPS:-6000} \
+      --set warmup_steps=200 --set val_every=200 --set ckpt_every=200 --set select_by=val_mse_vs_flat \
+      > "$OUT/train-$m.log" 2>&1 &
+    pids+=($!)
+  done
+  while (( SECONDS - t0 < budget )); do
+    local alive=0
+    for p in "${pids[@]}"; do kill -0 $p 2>/dev/null && alive=1; done
+    (( alive )) || break
+    sleep 5
+  done
+  for p in "${pids[@]}"; do kill $p 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  for m in ${MODELS:-cpu-pi small-pi}; do
+    local ck=/tmp/ltm-runs/$m/best.ltmckpt
+    [[ -f $ck ]] || continue
+    "$ltm" export "$ck" --half -o "$OUT/$m.safetensors" --note "issue #30 device session: $m from its prior, cpu-s32v seeds 300000+" -q || true
+    cp /tmp/ltm-runs/$m/log.jsonl "$OUT/$m.log.jsonl" || true
+  done
+  for m in ${MODELS:-cpu-pi small-pi}; do
+    echo "== $m"; grep -E "validation|parameters" "$OUT/train-$m.log" | tail -12; grep "steps/s" "$OUT/train-$m.log" | tail -2
+  done
+  echo "session: done in $((SECONDS - t0)) s"
+}
+
 case "${1:-}" in
   fetch) cmd_fetch ;;
   setup) cmd_setup ;;
@@ -138,5 +186,6 @@ case "${1:-}" in
   bench) cmd_bench "$2" ;;
   status) cmd_status ;;
   collect) cmd_collect ;;
+  session) cmd_session ;;
   *) echo "usage: $0 fetch|setup|bake A:B|train STEPS [key=value]|status|collect" >&2; exit 2 ;;
 esac

@@ -164,7 +164,7 @@ void attend(const Weights &w, const FusedDecoder::Block &blk, const float *c, co
     grouped_gemv(s.u_t.data(), d, g_n, w.pos2.wt.data(), d, out);
 }
 
-// The whole decoder for rows ≤ k_tile queries.   query [rows, 9], idx [rows, κ]  ->  z [rows, 3]
+// The whole decoder for rows ≤ k_tile queries.   query [rows, w.query_width], idx [rows, κ]  ->  z [rows, 3]
 // flatten inlines every helper, so each target clone gets its own vectorised copy of them. Clang
 // refuses flatten on a multiversioned function: there the helpers stay baseline code (correct,
 // slower); the shipped build is GCC's.
@@ -175,15 +175,15 @@ __attribute__((flatten, target_clones("arch=x86-64-v3", "default")))
 #endif
 void decode_tile(const Weights &w, Scratch &s, const float *query, const float *anchors, const int64_t *idx,
                  int kappa, int rows, float *z) {
-    const int d = w.dim, g_n = w.groups, n_ffn = w.ffn_dim;
+    const int d = w.dim, g_n = w.groups, n_ffn = w.ffn_dim, qw = w.query_width;
     float *h = s.h.data(), *x = s.x.data(), *t = s.t.data();
     // 𝓗 (eq. 9): h = Linear(GELU(LN(Linear(q))))   [rows, D]
-    linear(query, 9, rows, w.embed1, x, d);
+    linear(query, qw, rows, w.embed1, x, d);
     layer_norm(x, x, rows, d, w.embed_ln);
     gelu(x, rows * d);
     linear(x, d, rows, w.embed2, h, d);
     for (int r = 0; r < rows; ++r)
-        position_hidden(w, query + r * 9, anchors, idx + r * kappa, kappa, s.rel_t.data(), s.eta_t.data() + r * d * kappa);
+        position_hidden(w, query + r * qw, anchors, idx + r * kappa, kappa, s.rel_t.data(), s.eta_t.data() + r * d * kappa);
     for (const auto &blk : w.blocks) {
         // h += Attn(LN h)
         layer_norm(h, x, rows, d, blk.norm);
@@ -238,6 +238,7 @@ FusedDecoder::FusedDecoder(const QueryDecoderImpl &dec) {
     const auto lin = [&](const std::string &n) { return dense(p(n + ".weight"), p(n + ".bias")); };
     const auto ln = [&](const std::string &n) { return norm(p(n + ".weight"), p(n + ".bias")); };
     m_w.dim = int(dec.cfg.dim), m_w.groups = int(dec.cfg.groups), m_w.ffn_dim = int(dec.cfg.ffn_ratio * dec.cfg.dim);
+    m_w.query_width = 9 + dec.cfg.extra_inputs;
     // Without absolute positions 𝓗 sees (0, 0, 0, n, albedo): the same as zero weight columns for p.
     auto embed1_w = p("embed.0.weight");
     if (!dec.cfg.absolute_position) embed1_w.slice(1, 0, 3).zero_();
@@ -278,7 +279,8 @@ void FusedDecoder::prepare(const torch::Tensor &latents) {
 
 torch::Tensor FusedDecoder::forward(const torch::Tensor &query, const torch::Tensor &anchors, const torch::Tensor &idx) const {
     TORCH_CHECK(m_w.n_latents >= 0, "FusedDecoder::forward: call prepare(latents) first");
-    TORCH_CHECK(query.dim() == 2 && query.size(1) == 9, "FusedDecoder: query must be [N, 9], got ", query.sizes());
+    TORCH_CHECK(query.dim() == 2 && query.size(1) == m_w.query_width, "FusedDecoder: query must be [N, ", m_w.query_width, "], got ",
+                query.sizes());
     TORCH_CHECK(anchors.dim() == 2 && anchors.size(1) == 3 && anchors.size(0) == m_w.n_latents,
                 "FusedDecoder: anchors must be [m, 3] with m = ", m_w.n_latents, ", got ", anchors.sizes());
     TORCH_CHECK(idx.dim() == 2 && idx.size(0) == query.size(0) && idx.size(1) > 0 && idx.scalar_type() == torch::kInt64,
@@ -299,7 +301,7 @@ torch::Tensor FusedDecoder::forward(const torch::Tensor &query, const torch::Ten
         Scratch s(m_w, kappa);
         for (int64_t tile = begin; tile < end; ++tile) {
             const int64_t r0 = tile * k_tile;
-            decode_tile(m_w, s, qp + r0 * 9, ap, ip + r0 * kappa, kappa, int(std::min<int64_t>(k_tile, n - r0)), zp + r0 * 3);
+            decode_tile(m_w, s, qp + r0 * m_w.query_width, ap, ip + r0 * kappa, kappa, int(std::min<int64_t>(k_tile, n - r0)), zp + r0 * 3);
         }
     });
     return z;

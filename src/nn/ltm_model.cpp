@@ -166,6 +166,7 @@ torch::Tensor normalize_query_points(const torch::Tensor &qp, const SceneNormali
 LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
     cfg.encoder.in_channels = cfg.embedding.dim;
     cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
+    cfg.embedding.extra_inputs = cfg.decoder.extra_inputs = cfg.prior_inputs ? 3 : 0;
     embedding = register_module("embedding", NNEmbedding(cfg.embedding));
     encoder = register_module("encoder", PTv3(cfg.encoder));
     decoder = register_module("decoder", QueryDecoder(cfg.decoder, encoder->out_channels()));
@@ -185,10 +186,10 @@ SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) co
 }
 
 SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                                  const torch::Tensor &emission_scale) {
+                                  const torch::Tensor &emission_scale, const SceneNormalization *frame) {
     SceneLatents out;
-    out.norm = scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
-    const auto x = normalize_scene_points(scene_points, out.norm);
+    out.norm = frame ? *frame : scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
+    auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     // (Non-finite scene points take the network's path, which reports them.)
     if (fold_prior && !torch::GradMode::is_enabled() && !directional && decoder->at_prior() &&
@@ -197,19 +198,30 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
         out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
         return out;
     }
+    if (cfg.prior_inputs) {
+        // The prior at the scene points: the points as queries, so a query at a point sees the same feature.
+        if (!out.norm.point_prior.defined()) out.norm.point_prior = output_scale(scene_points.slice(1, 0, 9), out.norm);
+        TORCH_CHECK(out.norm.point_prior.dim() == 2 && out.norm.point_prior.size(0) == x.size(0) && out.norm.point_prior.size(1) == 3,
+                    "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", out.norm.point_prior.sizes());
+        x = torch::cat({x, prior_features(out.norm.point_prior, out.norm)}, 1);   // [M, 15]
+    }
     const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
     out.features = encoder->forward(tokens, out.anchors);                         // [m, C]
     return out;
 }
 
-torch::Tensor LtmModelImpl::decode_with_neighbors(const torch::Tensor &query_points, const SceneLatents &latents,
-                                                  const torch::Tensor &idx) {
-    const auto q = normalize_query_points(query_points, latents.norm);
-    return decoder->forward(q, latents.features, latents.anchors, idx);
+torch::Tensor LtmModelImpl::query_inputs(const torch::Tensor &query_points, const SceneNormalization &norm,
+                                         const torch::Tensor &scale) const {
+    const auto q = normalize_query_points(query_points, norm);
+    if (!cfg.prior_inputs) return q;
+    const auto s = scale.defined() ? scale : output_scale_normalized(q, norm);
+    TORCH_CHECK(s.dim() == 2 && s.size(0) == q.size(0) && s.size(1) == 3, "query_inputs: scale must be [N, 3] for N = ",
+                q.size(0), ", got ", s.sizes());
+    return torch::cat({q, prior_features(s, norm)}, 1);   // [N, 12]
 }
 
-torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents) {
-    const auto q = normalize_query_points(query_points, latents.norm);
+torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale) {
+    const auto q = query_inputs(query_points, latents.norm, scale);
     const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
     return decoder->forward(q, latents.features, latents.anchors, idx);
@@ -242,18 +254,19 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     std::vector<torch::Tensor> parts;
     for (int64_t s = 0; s < query_points.size(0); s += chunk) {
         const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
+        const auto scale = output_scale(qp, latents.norm);   // the prior at the queries: input and output frame
         if (!fused) {
-            parts.push_back(irradiance_from_z(decode(qp, latents), output_scale(qp, latents.norm)));
+            parts.push_back(irradiance_from_z(decode(qp, latents, cfg.prior_inputs ? scale : torch::Tensor()), scale));
             continue;
         }
-        const auto q = normalize_query_points(qp, latents.norm);
+        const auto q = query_inputs(qp, latents.norm, cfg.prior_inputs ? scale : torch::Tensor());
         const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
         local.decode += since(t);
         t = clock::now();
         const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
         local.knn += since(t);
         t = clock::now();
-        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), output_scale_normalized(q, latents.norm)));
+        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), scale));
     }
     auto out = parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
     local.decode += since(t);
@@ -311,6 +324,12 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 }
 
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }
+
+torch::Tensor prior_features(const torch::Tensor &prior, const SceneNormalization &norm) {
+    TORCH_CHECK(prior.dim() == 2 && prior.size(1) == 3, "prior_features: prior must be [N, 3], got ", prior.sizes());
+    const auto o = norm.output.to(prior.device());
+    return torch::log1p(torch::where(o > 0, prior / o.clamp_min(1e-30), torch::zeros_like(prior)));
+}
 
 torch::Tensor radiance_scale(const torch::Tensor &query_points, const torch::Tensor &direction, const SceneNormalization &norm,
                              int cells) {

@@ -80,7 +80,9 @@ const ConfigFields<ModelConfig> &ModelConfig::fields() {
     using C = ModelConfig;
     static const ConfigFields<C> f = ConfigFields<C>()
                                          .field("name", &C::name, "preset name (informational)")
-                                         .field("scene_points", &C::scene_points, "M scene points the model is trained with (must match the dataset)", at_least(16));
+                                         .field("scene_points", &C::scene_points, "M scene points the model is trained with (must match the dataset)", at_least(16))
+                                         .field("prior_inputs", &C::prior_inputs, "scene points and queries also carry the transport prior's Ê⁺ there, log1p(Ê⁺ / S·Σρ̄^k): the network sees what it corrects")
+                                         .omit_default();
     return f;
 }
 
@@ -142,6 +144,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                                                              if (dc.dim % dc.groups != 0)
                                                                  LTM_THROW(d.where("groups"), ": dim ", dc.dim, " is not divisible by groups ", dc.groups);
                                                          });
+    if (c.prior_inputs && c.physics.prior_field != "transport")
+        LTM_THROW(o.where("prior_inputs"), ": prior inputs need physics.prior_field \"transport\" (the prior they carry)");
     if (c.directional && c.directional->prior_cells > 0 && c.physics.prior_field != "transport")
         LTM_THROW(o.where("directional"), ": prior_cells needs physics.prior_field \"transport\" (the directional prior splits its gather)");
 }

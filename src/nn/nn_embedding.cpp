@@ -12,13 +12,13 @@ torch::nn::Sequential make_mlp(int64_t in, int64_t hidden, int64_t out) {
 }
 
 NNEmbeddingImpl::NNEmbeddingImpl(const EmbeddingConfig &c) : cfg(c) {
-    f = register_module("f", make_mlp(12, cfg.dim, cfg.dim));
+    f = register_module("f", make_mlp(12 + cfg.extra_inputs, cfg.dim, cfg.dim));
     const int64_t g_in = 2 * cfg.dim + (cfg.relative_position ? 3 : 0);
     g = register_module("g", make_mlp(g_in, cfg.dim, cfg.dim));
 }
 
 torch::Tensor NNEmbeddingImpl::forward(const torch::Tensor &x, const torch::Tensor &centers, const torch::Tensor &groups) {
-    TORCH_CHECK(x.dim() == 2 && x.size(1) == 12, "NNEmbedding: x must be [M, 12], got ", x.sizes());
+    TORCH_CHECK(x.dim() == 2 && x.size(1) == 12 + cfg.extra_inputs, "NNEmbedding: x must be [M, ", 12 + cfg.extra_inputs, "], got ", x.sizes());
     TORCH_CHECK(centers.dim() == 1 && groups.dim() == 2 && groups.size(0) == centers.size(0),
                 "NNEmbedding: centers [m] and groups [m, k] expected, got ", centers.sizes(), " and ", groups.sizes());
     const int64_t m = centers.size(0), k = groups.size(1);

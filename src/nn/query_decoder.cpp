@@ -52,7 +52,7 @@ bool QueryDecoderImpl::at_prior() const {
 }
 
 QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) : cfg(c) {
-    embed = register_module("embed", make_mlp(9, cfg.dim, cfg.dim));
+    embed = register_module("embed", make_mlp(9 + cfg.extra_inputs, cfg.dim, cfg.dim));
     out = register_module("out", torch::nn::Sequential(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})),
                                                        torch::nn::Linear(cfg.dim, cfg.dim), torch::nn::GELU(),
                                                        torch::nn::Linear(cfg.dim, 3)));
@@ -99,7 +99,8 @@ torch::Tensor anchor_offsets(const torch::Tensor &query, const torch::Tensor &an
 
 torch::Tensor QueryDecoderImpl::forward(const torch::Tensor &query, const torch::Tensor &latents,
                                         const torch::Tensor &anchors, const torch::Tensor &idx) {
-    TORCH_CHECK(query.dim() == 2 && query.size(1) == 9, "QueryDecoder: query must be [N, 9], got ", query.sizes());
+    TORCH_CHECK(query.dim() == 2 && query.size(1) == 9 + cfg.extra_inputs, "QueryDecoder: query must be [N, ", 9 + cfg.extra_inputs,
+                "], got ", query.sizes());
     TORCH_CHECK(latents.dim() == 2 && anchors.dim() == 2 && anchors.size(1) == 3 && anchors.size(0) == latents.size(0),
                 "QueryDecoder: latents [m, C] and anchors [m, 3] expected, got ", latents.sizes(), " and ", anchors.sizes());
     TORCH_CHECK(idx.dim() == 2 && idx.size(0) == query.size(0), "QueryDecoder: idx must be [N, κ], got ", idx.sizes());

@@ -22,4 +22,11 @@ torch::Tensor apply_symmetry(const torch::Tensor &points, int s) {
     return torch::cat({points.slice(1, 0, 3).mm(rt), points.slice(1, 3, 6).mm(rt), points.slice(1, 6)}, 1);
 }
 
+SceneNormalization apply_symmetry(const SceneNormalization &frame, int s) {
+    SceneNormalization f = frame;
+    f.transport.reset();
+    if (s != 0) f.center = f.center.view({1, 3}).mm(symmetry_matrix(s).t().to(f.center.device())).view({3});
+    return f;
+}
+
 }  // namespace ltm

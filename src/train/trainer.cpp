@@ -158,6 +158,14 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
             const Vec3f s = *r.emission_scale;
             c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
         }
+        if (m_cfg.head != "directional") {
+            // The directional head's radiance_scale gathers the solved prior itself in the draw's frame.
+            torch::NoGradGuard no_grad;
+            c->frame = scene_normalization(c->scene_points, c->geometry, m_model_cfg.physics, c->emission_scale);
+            if (m_model_cfg.prior_inputs) c->frame.point_prior = output_scale(c->scene_points.slice(1, 0, 9), c->frame);
+            c->query_scale = output_scale(c->query_points, c->frame);
+            c->frame.transport.reset();   // every value needed is kept; the solve's memory is not
+        }
         slot = std::move(c);
     }
     return *slot;
@@ -207,10 +215,11 @@ TrainStepLog Trainer::train_step() {
         m_model->encoder->reseed(hash_keys({m_cfg.seed, 0x0dde5ull, u}) >> 1);   // PTv3 order shuffles, drop path
         const auto scene_points = apply_symmetry(sc.scene_points, sym);
         const auto queries = apply_symmetry(sc.query_points.index_select(0, idx), sym);
-        const SceneLatents lat = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
-        const auto z = m_model->decode(queries, lat);
+        const SceneLatents lat = latents(sc, scene_points, sym);
+        const auto scale = query_scale(sc, idx);
+        const auto z = m_model->decode(queries, lat, scale);
         // The step's loss is the mean of the scenes' losses; gradients accumulate scene by scene.
-        const auto l = loss(z, sc.target.index_select(0, idx), output_scale(queries, lat.norm)) / double(K);
+        const auto l = loss(z, sc.target.index_select(0, idx), scale) / double(K);
         const double v = l.item<double>();
         if (!std::isfinite(v)) log.skipped = true;
         else l.backward(), log.loss += v;
@@ -319,13 +328,20 @@ OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
             {"val_unit_x10_error", (e10 - base).abs().mean().item<double>() / mean}};
 }
 
+torch::Tensor Trainer::query_scale(const CachedScene &sc, const torch::Tensor &idx) {
+    return sc.query_scale.dim() == 2 ? sc.query_scale.index_select(0, idx) : sc.query_scale;
+}
+
 SceneLatents Trainer::latents(CachedScene &sc, const torch::Tensor &scene_points, int sym) {
-    if (m_cfg.freeze != "encoder") return m_model->encode(scene_points, sc.geometry, sc.emission_scale);
+    // The irradiance head draws in the cached frame; the directional head solves per draw.
+    const SceneNormalization f = sc.frame.center.defined() ? apply_symmetry(sc.frame, sym) : SceneNormalization{};
+    const SceneNormalization *frame = f.center.defined() ? &f : nullptr;
+    if (m_cfg.freeze != "encoder") return m_model->encode(scene_points, sc.geometry, sc.emission_scale, frame);
     // Frozen and in eval mode (no PTv3 order shuffles): a pure function of the scene and sym.
     const auto it = sc.frozen_latents.find(sym);
     if (it != sc.frozen_latents.end()) return it->second;
     torch::NoGradGuard no_grad;
-    return sc.frozen_latents[sym] = m_model->encode(scene_points, sc.geometry, sc.emission_scale);
+    return sc.frozen_latents[sym] = m_model->encode(scene_points, sc.geometry, sc.emission_scale, frame);
 }
 
 namespace {
@@ -444,11 +460,11 @@ double Trainer::validate() {
         CachedScene &sc = scene(m_train_paths.size() + i);
         const auto rows = spread_rows(sc.query_points.size(0), m_cfg.val_queries, m_device);
         const int64_t nq = rows.size(0);
-        const SceneLatents lat = m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale);
+        const SceneLatents lat = latents(sc, sc.scene_points, 0);
         const auto queries = sc.query_points.index_select(0, rows);
-        const auto z = m_model->decode(queries, lat);
+        const auto scale = query_scale(sc, rows);
+        const auto z = m_model->decode(queries, lat, scale);
         const auto target = sc.target.index_select(0, rows);
-        const auto scale = output_scale(queries, lat.norm);
         const auto pred = irradiance_from_z(z, scale);
         sum += loss(z, target, scale).item<double>();
         // Plain MSE of log1p(E⁺): not dominated by a few dark points the way a relative loss is.
@@ -522,6 +538,35 @@ void Trainer::run(bool resume, int64_t stop_at) {
     auto save = [&](const std::string &path) {
         if (is_root()) save_checkpoint(path, m_model, *m_opt, {m_step, m_best_val, model_json, train_json});
     };
+    // Validation: a log line, best.ltmckpt on improvement of the select_by score.
+    auto run_validation = [&]() {
+        const double v = validate();
+        OrderedJson vj = {{"step", m_step - 1}, {"val_loss", v}, {"val_mse_log", m_val_mse_log}};
+        vj.update(m_val_physics);
+        log << vj.dump() << "\n" << std::flush;
+        if (m_cfg.head == "directional")
+            log_info("step ", m_step, " validation loss ", v, ", L_in relative MSE ", m_val_physics.value("val_dir_rel_mse", NAN),
+                     " (uniform radiance of the irradiance head ", m_val_physics.value("val_dir_rel_mse_uniform_model", NAN),
+                     ", of the reference ", m_val_physics.value("val_dir_rel_mse_uniform", NAN), "), hemisphere integral vs the irradiance head ",
+                     m_val_physics.value("val_hemisphere_gap_vs_model", NAN), ", vs the reference ", m_val_physics.value("val_hemisphere_gap_vs_ref", NAN),
+                     " (", m_val_paths.size(), " held-out scenes)");
+        else
+            log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, ", MSE/flat oracle ",
+                     m_val_physics.value("val_mse_vs_flat", NAN), ", level ratio ", m_val_physics.value("val_level_ratio_geomean", NAN),
+                     ", chroma error ", m_val_physics.value("val_chroma_error", NAN), " (", m_val_paths.size(), " held-out scenes)");
+        const double score = m_cfg.head == "directional"            ? v   // the head's own loss
+                             : m_cfg.select_by == "val_mse_log"       ? m_val_mse_log
+                             : m_cfg.select_by == "val_mse_vs_flat" ? m_val_physics.value("val_mse_vs_flat", NAN)
+                                                                    : v;
+        if (std::isfinite(score) && score < m_best_val) {
+            m_best_val = score;
+            save(best);
+        }
+        if (m_cfg.keep_val_checkpoints) save(m_out + "/step-" + std::to_string(m_step) + ".ltmckpt");
+    };
+    // A fresh run validates its starting weights first (logged as step -1): with --start-at-prior
+    // that is the prior's own score, the floor the network has to beat; best.ltmckpt starts there.
+    if (m_step == 0 && end > 0) run_validation();
     while (m_step < end) {
         const TrainStepLog s = train_step();
         m_history.push_back(s);
@@ -539,31 +584,7 @@ void Trainer::run(bool resume, int64_t stop_at) {
             steps_since = 0;
             loss_since = 0;
         }
-        if (m_step % m_cfg.val_every == 0 || m_step == m_cfg.steps) {
-            const double v = validate();
-            OrderedJson vj = {{"step", m_step - 1}, {"val_loss", v}, {"val_mse_log", m_val_mse_log}};
-            vj.update(m_val_physics);
-            log << vj.dump() << "\n" << std::flush;
-            if (m_cfg.head == "directional")
-                log_info("step ", m_step, " validation loss ", v, ", L_in relative MSE ", m_val_physics.value("val_dir_rel_mse", NAN),
-                         " (uniform radiance of the irradiance head ", m_val_physics.value("val_dir_rel_mse_uniform_model", NAN),
-                         ", of the reference ", m_val_physics.value("val_dir_rel_mse_uniform", NAN), "), hemisphere integral vs the irradiance head ",
-                         m_val_physics.value("val_hemisphere_gap_vs_model", NAN), ", vs the reference ", m_val_physics.value("val_hemisphere_gap_vs_ref", NAN),
-                         " (", m_val_paths.size(), " held-out scenes)");
-            else
-                log_info("step ", m_step, " validation loss ", v, ", log-space MSE ", m_val_mse_log, ", MSE/flat oracle ",
-                         m_val_physics.value("val_mse_vs_flat", NAN), ", level ratio ", m_val_physics.value("val_level_ratio_geomean", NAN),
-                         ", chroma error ", m_val_physics.value("val_chroma_error", NAN), " (", m_val_paths.size(), " held-out scenes)");
-            const double score = m_cfg.head == "directional"            ? v   // the head's own loss
-                                 : m_cfg.select_by == "val_mse_log"       ? m_val_mse_log
-                                 : m_cfg.select_by == "val_mse_vs_flat" ? m_val_physics.value("val_mse_vs_flat", NAN)
-                                                                        : v;
-            if (std::isfinite(score) && score < m_best_val) {
-                m_best_val = score;
-                save(best);
-            }
-            if (m_cfg.keep_val_checkpoints) save(m_out + "/step-" + std::to_string(m_step) + ".ltmckpt");
-        }
+        if (m_step % m_cfg.val_every == 0 || m_step == m_cfg.steps) run_validation();
         if (m_step % m_cfg.ckpt_every == 0 || m_step == end) save(last);
     }
     // No rank leaves (closing the store rank 0 serves) before rank 0's last checkpoint is written.

@@ -34,9 +34,9 @@ struct Inputs {
     torch::Tensor query, latents, anchors, idx;
 };
 // Random queries among random anchors; kNN-like indices are not needed for equivalence.
-Inputs random_inputs(int64_t n, int64_t m, int64_t latent_dim, int64_t kappa) {
+Inputs random_inputs(int64_t n, int64_t m, int64_t latent_dim, int64_t kappa, int64_t width = 9) {
     Inputs in;
-    in.query = torch::randn({n, 9});
+    in.query = torch::randn({n, width});
     in.latents = torch::randn({m, latent_dim});
     in.anchors = torch::randn({m, 3});
     in.idx = torch::randint(0, m, {n, kappa}, torch::kInt64);
@@ -46,7 +46,7 @@ Inputs random_inputs(int64_t n, int64_t m, int64_t latent_dim, int64_t kappa) {
 void expect_fused_matches_module(const DecoderConfig &cfg, int64_t latent_dim) {
     QueryDecoder dec(cfg, latent_dim);
     randomise(*dec);
-    const Inputs in = random_inputs(/*n=*/203, /*m=*/300, latent_dim, cfg.n_neighbors);   // 203: a partial tile
+    const Inputs in = random_inputs(/*n=*/203, /*m=*/300, latent_dim, cfg.n_neighbors, 9 + cfg.extra_inputs);   // 203: a partial tile
     torch::NoGradGuard no_grad;
     const auto expect = dec->forward(in.query, in.latents, in.anchors, in.idx);
     FusedDecoder fused(*dec);
@@ -130,6 +130,15 @@ TEST(FusedDecoder, RejectsKnnMeanDecoder) {
 }
 
 // predict_irradiance (fused on CPU) equals the libtorch path and output·expm1(decode()) on a real scene.
+// Prior inputs (ModelConfig::prior_inputs): 12 query columns, the same in both paths.
+TEST(FusedDecoder, MatchesModuleWithPriorInputs) {
+    torch::manual_seed(15);
+    DecoderConfig cfg = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json")).decoder;
+    cfg.absolute_position = false;
+    cfg.extra_inputs = 3;
+    expect_fused_matches_module(cfg, /*latent_dim=*/64);
+}
+
 TEST(FusedDecoder, PredictIrradianceMatchesLibtorchPath) {
     torch::manual_seed(14);
     const ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));

@@ -4,6 +4,7 @@
 
 #include "ltm/nn/knn.h"
 #include "ltm/train/augment.h"
+#include "nn/tiny_scene_fixture.h"
 
 namespace ltm {
 namespace {
@@ -53,4 +54,40 @@ TEST(Augment, ExactAndFpsKnnInvariant) {
 }
 
 }  // namespace
+}  // namespace ltm
+
+namespace ltm {
+
+// The trainer solves a scene's prior once and moves the frame with each of the 8 symmetries
+// (apply_symmetry of a SceneNormalization): the decoder's z and the output scale it then uses
+// match a frame solved for the transformed points (the occlusion grid and clusters are
+// axis-aligned, so the solve differs only by rounding and cluster ties).
+TEST(PriorInputs, CachedFrameUnderASymmetryMatchesTheSolvedFrame) {
+    test::TinySceneFixture f(300);
+    f.cfg.physics = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json")).physics;
+    f.cfg.prior_inputs = true;
+    LtmModel m = test::model_with_random_part(f.cfg, 6, "decoder");
+    torch::NoGradGuard no_grad;
+    const SceneGeometry g = m->scene_geometry(f.sp);
+    SceneNormalization frame = scene_normalization(f.sp, g, f.cfg.physics);
+    frame.point_prior = output_scale(f.sp.slice(1, 0, 9), frame);
+    const auto q_scale = output_scale(f.qp, frame);
+    for (int s : {1, 6}) {
+        const auto sp = apply_symmetry(f.sp, s), qp = apply_symmetry(f.qp, s);
+        const SceneLatents solved = m->encode(sp, g);
+        const SceneNormalization moved = apply_symmetry(frame, s);
+        EXPECT_FALSE(moved.transport) << "the solve's nodes are in the old frame";
+        const SceneLatents cached = m->encode(sp, g, {}, &moved);
+        const auto scale = output_scale(qp, solved.norm);
+        const double level = scale.mean().item<double>();
+        const double scale_err = (scale - q_scale).abs().mean().item<double>() / level;
+        const auto z_solved = m->decode(qp, solved), z_cached = m->decode(qp, cached, q_scale);
+        const double z_err = (z_solved - z_cached).abs().mean().item<double>() / z_solved.abs().mean().item<double>();
+        ::testing::Test::RecordProperty("symmetry_" + std::to_string(s), std::to_string(scale_err) + " " + std::to_string(z_err));
+        EXPECT_LT(scale_err, 0.02) << "symmetry " << s;
+        EXPECT_LT(z_err, 0.02) << "symmetry " << s;
+        EXPECT_TRUE(torch::allclose(cached.anchors, solved.anchors, 0.0, 1e-5)) << "the centre moved like the points";
+    }
+}
+
 }  // namespace ltm

@@ -49,6 +49,7 @@ public:
     /// Everything decode needs, as plain arrays.
     struct Weights {
         int dim = 0, groups = 0, ffn_dim = 0;   ///< ffn_dim = ffn_ratio · dim
+        int query_width = 9;                    ///< the query's columns: 9 + the decoder's extra_inputs
         int64_t n_latents = -1;                     ///< -1 until prepare()
         Dense embed1, embed2, pos1, pos2, out1, out2;   ///< pos1/pos2: γ's Linear layers
         Norm embed_ln, out_ln;
@@ -59,7 +60,7 @@ public:
     explicit FusedDecoder(const QueryDecoderImpl &decoder);
     /// Per-scene projections of the latents, once per block.   latents [m, C]
     void prepare(const torch::Tensor &latents);
-    /// query [N, 9] (normalised p, n, albedo), anchors [m, 3], idx [N, κ] int64  ->  z [N, 3] (float, CPU)
+    /// query [N, 9 + extra_inputs] (normalised p, n, albedo[, prior features]), anchors [m, 3], idx [N, κ] int64  ->  z [N, 3] (float, CPU)
     torch::Tensor forward(const torch::Tensor &query, const torch::Tensor &anchors, const torch::Tensor &idx) const;
 
 private:

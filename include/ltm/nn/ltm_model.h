@@ -36,6 +36,10 @@ struct SceneNormalization {
     /// frame (node area in units of ℓ²; emission rescaled so that π · mean node radiance = S_c);
     /// E⁺ = prior(query) · expm1(z) instead of output · expm1(z). Null for the "flat" prior.
     std::shared_ptr<const TransportPrior> transport;
+    /// [M, 3] the prior at every scene point (output_scale of the points as queries, raw units):
+    /// the encoder's prior inputs (ModelConfig::prior_inputs). Set by encode() when needed, or
+    /// given with the rest of the frame (the trainer computes it once per scene).
+    torch::Tensor point_prior;
 };
 
 /// What the encoder leaves for the decoder.
@@ -72,13 +76,19 @@ struct LtmModelImpl : torch::nn::Module {
     //   scene_points [M, 12] (raw: metres, emission radiance) -> FPS/kNN indices
     SceneGeometry scene_geometry(const torch::Tensor &scene_points) const;
     //   scene_points [M, 12] raw, emission_scale [3] (S = Φ/A, optional) -> latents at m anchors
+    /// frame: the scene's normalisation computed beforehand for these very points (with
+    /// point_prior when prior_inputs), so the prior is not solved again (the trainer's cache:
+    /// it solves once per scene and moves the frame with its symmetries); null: computed here.
     SceneLatents encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                        const torch::Tensor &emission_scale = {});
-    //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺ / latents.norm.output); kNN among anchors computed here
-    torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents);
-    //   the same with precomputed anchor neighbours idx [N, κ]
-    torch::Tensor decode_with_neighbors(const torch::Tensor &query_points, const SceneLatents &latents,
-                                        const torch::Tensor &idx);
+                        const torch::Tensor &emission_scale = {}, const SceneNormalization *frame = nullptr);
+    //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺ / output_scale); kNN among anchors computed here.
+    /// scale [N, 3]: output_scale(query_points, latents.norm) when already known (it is also the
+    /// prior input of the queries); undefined: gathered here when needed.
+    torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {});
+    /// The decoder's input rows: normalize_query_points, then with prior_inputs the prior's features
+    /// (prior_features of scale, gathered when undefined).   query_points [N, 9] raw -> [N, 9 (+3)]
+    torch::Tensor query_inputs(const torch::Tensor &query_points, const SceneNormalization &norm,
+                               const torch::Tensor &scale = {}) const;
     /// Inference in chunks (no autograd): E⁺ = output_scale · expm1(z).  query [N, 9] -> [N, 3].
     /// On CPU the "attention" decoder runs as a FusedDecoder, built from the current weights at every
     /// call (a few ms, so it never sees stale weights) unless fused_inference is false. The fused
@@ -121,6 +131,11 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 /// 10⁻³ · norm.output / π like output_scale.   query_points [N, 9] raw, direction [N, 3] -> [3] or [N, 3]
 torch::Tensor radiance_scale(const torch::Tensor &query_points, const torch::Tensor &direction, const SceneNormalization &norm,
                              int cells);
+/// The prior as a network input: log1p(Ê⁺ / norm.output) per channel (0 in a dark channel).
+/// Ê⁺ and norm.output = S_c·Σρ̄^k both scale with emission and neither depends on the unit, so the
+/// feature is invariant to both; log1p keeps the range of bright and shadowed points moderate.
+///   prior [N, 3] (E⁺, raw units) -> [N, 3]
+torch::Tensor prior_features(const torch::Tensor &prior, const SceneNormalization &norm);
 /// L_in from the directional head's output: scale · expm1(z), scale = radiance_scale().
 ///   z [N, 3], scale [3] or [N, 3] -> [N, 3]
 torch::Tensor radiance_from_z(const torch::Tensor &z, const torch::Tensor &scale);

@@ -21,6 +21,9 @@ struct EmbeddingConfig {
     /// Feed the absolute position p_j to 𝓕 (eq. 5). Not a JSON key: LtmModel sets it from
     /// PhysicsConfig::translation_invariant (off: 𝓕 sees normal, albedo, emission only).
     bool absolute_position = true;
+    /// Columns after the scene point's 12 (p, n, albedo, emission). Not a JSON key: LtmModel sets
+    /// it to 3 when ModelConfig::prior_inputs (the prior's Ê⁺ at the point), else 0.
+    int extra_inputs = 0;
     /// The JSON keys (core/config_fields.h).
     static const ConfigFields<EmbeddingConfig> &fields();
 };
@@ -36,6 +39,9 @@ struct DecoderConfig {
     /// Feed the query's absolute position to 𝓗 (eq. 9); positions still enter as Δp (eq. 10). Not
     /// a JSON key: LtmModel sets it from PhysicsConfig::translation_invariant.
     bool absolute_position = true;
+    /// Columns after the query's 9 (p, n, albedo). Not a JSON key: LtmModel sets it to 3 when
+    /// ModelConfig::prior_inputs (the prior's Ê⁺ at the query), else 0.
+    int extra_inputs = 0;
     /// The JSON keys (core/config_fields.h).
     static const ConfigFields<DecoderConfig> &fields();
 };
@@ -150,6 +156,12 @@ struct ModelConfig {
     PhysicsConfig physics;          ///< absent from a JSON config: PhysicsConfig::legacy() (v0.3)
     /// The directional radiance head; absent (no "directional" object) in irradiance-only models.
     std::optional<DirectionalConfig> directional;
+    /// The network sees what it corrects (issue #30): every scene point and every query carries
+    /// the transport prior's Ê⁺ there as log1p(Ê⁺ / S·Σρ̄^k) per channel (prior_features), a ratio
+    /// of two quantities linear in emission and free of the unit, so emission ×k and unit ×s leave
+    /// the inputs unchanged. false: the paper's inputs (p, n, albedo[, emission]) only. Needs
+    /// physics.prior_field "transport".
+    bool prior_inputs = false;
 
     /// The top-level keys (name, scene_points); the sections have their own fields().
     static const ConfigFields<ModelConfig> &fields();

@@ -16,7 +16,7 @@ torch::nn::Sequential make_mlp(int64_t in, int64_t hidden, int64_t out);
 
 struct NNEmbeddingImpl : torch::nn::Module {
     explicit NNEmbeddingImpl(const EmbeddingConfig &cfg);
-    //   x [M, 12] (normalised scene points), centers [m] int64, groups [m, k] int64  ->  [m, D]
+    //   x [M, 12 + extra_inputs] (normalised scene points[, prior features]), centers [m] int64, groups [m, k] int64  ->  [m, D]
     torch::Tensor forward(const torch::Tensor &x, const torch::Tensor &centers, const torch::Tensor &groups);
     EmbeddingConfig cfg;
     torch::nn::Sequential f{nullptr}, g{nullptr};   // 𝓕 (eq. 5) and 𝓖 (eq. 7)

@@ -45,7 +45,7 @@ torch::Tensor anchor_offsets(const torch::Tensor &query, const torch::Tensor &an
 
 struct QueryDecoderImpl : torch::nn::Module {
     QueryDecoderImpl(const DecoderConfig &cfg, int64_t latent_dim);
-    //   query [N, 9] (normalised p, n, albedo), latents [m, C], anchors [m, 3], idx [N, κ]  ->  z [N, 3]
+    //   query [N, 9 + extra_inputs] (normalised p, n, albedo[, prior features]), latents [m, C], anchors [m, 3], idx [N, κ]  ->  z [N, 3]
     torch::Tensor forward(const torch::Tensor &query, const torch::Tensor &latents, const torch::Tensor &anchors,
                           const torch::Tensor &idx);
     DecoderConfig cfg;

@@ -8,6 +8,8 @@
 
 #include <torch/torch.h>
 
+#include "ltm/nn/ltm_model.h"
+
 namespace ltm {
 
 inline constexpr int k_n_symmetries = 8;
@@ -19,5 +21,12 @@ torch::Tensor symmetry_matrix(int s);
 /// (albedo, emission) unchanged. s = 0 returns the input itself.
 ///   points [N, C ≥ 6] float  ->  [N, C]
 torch::Tensor apply_symmetry(const torch::Tensor &points, int s);
+
+/// A scene's frame (scene_normalization of the untransformed points) for its image under
+/// symmetry s: the bounding-box centre maps like the points (exactly: min and max are permuted
+/// and negated); ℓ, S, the output level and point_prior are invariant (the prior is a physical
+/// quantity). The transport solve, whose nodes lie in the old frame, is dropped: the caller keeps
+/// the prior's values it needs (the trainer's query_scale).
+SceneNormalization apply_symmetry(const SceneNormalization &frame, int s);
 
 }  // namespace ltm

@@ -136,7 +136,16 @@ private:
         torch::Tensor scene_points, query_points, target;   // device tensors
         torch::Tensor emission_scale;                       // [3] S = Φ/A, undefined for older records
         std::map<int, SceneLatents> frozen_latents;        // freeze "encoder": latents per symmetry
+        /// The scene's frame solved once (irradiance head): the normalisation without its
+        /// transport solve, with point_prior [M, 3] when the model takes prior inputs, and the
+        /// prior at every query, query_scale [nq, 3] (or [3] for the flat prior). The prior is a
+        /// physical quantity, unchanged by the 8 horizontal symmetries, so each draw only moves
+        /// the frame's centre (apply_symmetry) instead of solving the transport again (~1 s a step).
+        SceneNormalization frame;
+        torch::Tensor query_scale;
     };
+    /// The cached output scale of query rows idx [n] -> [n, 3] (or [3] for the flat prior).
+    static torch::Tensor query_scale(const CachedScene &sc, const torch::Tensor &idx);
     /// The scene's latents under symmetry sym (cached when the encoder is frozen).
     SceneLatents latents(CachedScene &sc, const torch::Tensor &scene_points, int sym);
     /// The directional head's loss on `share` (point, direction) pairs of scene draw u.
