@@ -132,9 +132,11 @@ cmd_collect() {
 
 # One prepared call (device time is short, ~15 min a session with the machine's start): build ltm,
 # bake camera-query records (cpu-s32v: 16 384 queries, 75 % where views look, 32 spp) of unused
-# seeds on the 16 cores until BAKE_UNTIL s, then train two sizes side by side on the GPU from
+# seeds (SEED0 on; session 18 used 300000-300153) on the 16 cores until BAKE_UNTIL s, then train two sizes side by side on the GPU from
 # their prior (--start-at-prior; the first validation is the prior's own score) until BUDGET s,
-# and bring back each size's best weights (F16) and logs. Seeds 300000+ are used nowhere else.
+# and bring back each size's best weights (F16) and logs. Seeds 300000-399999 are used nowhere
+# else. With INIT_DIR, a size whose INIT_DIR/<size>.safetensors exists fine-tunes from those weights
+# instead of starting at its prior (models/experimental/: device sessions build on each other).
 cmd_session() {
   local t0=$SECONDS budget=${BUDGET:-520} bake_until=${BAKE_UNTIL:-240} data=/tmp/ltm-data/s32v
   TARGETS=ltm cmd_setup
@@ -142,16 +144,25 @@ cmd_session() {
   env_setup
   local ltm=$BUILD/apps/ltm/ltm
   mkdir -p $data
-  "$ltm" dataset build --config configs/data/cpu-s32v.json --seed-range 300000:304000 -o $data > "$OUT/bake.log" 2>&1 &
-  local bake=$!
-  while (( SECONDS - t0 < bake_until )) && kill -0 $bake 2>/dev/null; do sleep 5; done
-  kill $bake 2>/dev/null || true; wait $bake 2>/dev/null || true
+  # One dataset build scales to ~2 of the 16 cores (1.8 scenes/s there, 0.8 on 2 cores), so
+  # BAKERS processes of 16/BAKERS threads bake disjoint seed ranges into the same folder.
+  local bakers=${BAKERS:-6} seed0=${SEED0:-320000} bakes=()
+  for ((b = 0; b < bakers; ++b)); do
+    "$ltm" dataset build --config configs/data/cpu-s32v.json --threads $(( (16 + bakers - 1) / bakers )) \
+      --seed-range $((seed0 + b * 2000)):$((seed0 + b * 2000 + 2000)) -o $data -q > "$OUT/bake.log" 2>&1 &
+    bakes+=($!)
+  done
+  while (( SECONDS - t0 < bake_until )); do sleep 5; done
+  for p in "${bakes[@]}"; do kill $p 2>/dev/null || true; done
+  wait "${bakes[@]}" 2>/dev/null || true
   find $data -name '*.tmp*' -delete
   echo "session: $(ls $data/scene-*.safetensors | wc -l) records baked by $((SECONDS - t0)) s"
   local pids=()
   for m in ${MODELS:-cpu-pi small-pi}; do
     rm -rf /tmp/ltm-runs/$m
-    "$ltm" train --model configs/model/$m.json --data $data --out /tmp/ltm-runs/$m --device cuda --start-at-prior \
+    local start=--start-at-prior
+    [[ -n ${INIT_DIR:-} && -f $INIT_DIR/$m.safetensors ]] && start="--init $INIT_DIR/$m.safetensors"
+    "$ltm" train --model configs/model/$m.json --data $data --out /tmp/ltm-runs/$m --device cuda $start \
       --config configs/train/default.json --threads 8 --set loss=level-l2 --set lr=${LR:-5e-4} --set steps=${STEPS:-6000} \
       --set warmup_steps=200 --set val_every=200 --set ckpt_every=200 --set select_by=val_mse_vs_flat \
       > "$OUT/train-$m.log" 2>&1 &

@@ -121,7 +121,11 @@ const ConfigFields<GenConfig::Textures> &GenConfig::Textures::fields() {
             .field("tile_scale", &C::tile_scale, "checker cell (m)", between(0.001, 100.0))
             .field("stripe_scale", &C::stripe_scale, "stripe pair period (m)", between(0.001, 100.0))
             .field("noise_scale", &C::noise_scale, "noise feature size (m)", between(0.001, 100.0))
-            .field("color_jitter", &C::color_jitter, "relative per-object jitter of palette colours", between(0.0, 0.5));
+            .field("color_jitter", &C::color_jitter, "relative per-object jitter of palette colours", between(0.0, 0.5))
+            .field("p_bright_house", &C::p_bright_house, "a house's diffuse albedos are lifted toward their hue at 0.85 (white kitchens, living rooms)", between(0, 1))
+            .omit_default()
+            .field("bright_lift", &C::bright_lift, "range of a bright house's lift t: albedo + t (0.85 albedo / max albedo - albedo)", between(0.0, 1.0))
+            .omit_default();
     return f;
 }
 

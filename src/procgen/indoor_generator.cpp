@@ -19,7 +19,7 @@ namespace ltm {
 
 namespace {
 
-enum Stream : uint64_t { k_plan = 1, k_lights = 2, k_furniture = 3, k_camera = 4, k_shell_mat = 5, k_item_mat = 6, k_glossy = 7 };
+enum Stream : uint64_t { k_plan = 1, k_lights = 2, k_furniture = 3, k_camera = 4, k_shell_mat = 5, k_item_mat = 6, k_glossy = 7, k_bright = 8 };
 
 size_t pick_area_weighted(const std::vector<Rect2f> &rects, Pcg32 &rng) {
     float total = 0.f;
@@ -336,6 +336,26 @@ void add_meshes(GeneratedScene &g, Stages &st, const FloorPlan &plan, const GenC
     }
 }
 
+// A bright house (GenConfig::Textures::p_bright_house): every diffuse, non-emitting albedo lifted
+// by t toward its own hue at 0.85. Its own stream, so the rest of the house is the seed's house.
+// Returns t, or 0 when the house stays as drawn.
+float maybe_brighten(Scene &scene, const GenConfig::Textures &cfg, uint64_t seed) {
+    if (!(cfg.p_bright_house > 0.f)) return 0.f;
+    Pcg32 rng(hash_keys({seed, k_bright}));
+    if (!rng.bernoulli(cfg.p_bright_house)) return 0.f;
+    const float t = quantize(rng.uniform(cfg.bright_lift.x, cfg.bright_lift.y));
+    const auto lift = [t](Vec3f c) {
+        const float m = max_component(c);
+        return m > 0.f ? quantize(c + t * (c * (0.85f / m) - c)) : quantize(Vec3f(t * 0.85f));
+    };
+    for (Material &mat : scene.materials) {
+        if (mat.bsdf != BsdfKind::diffuse || mat.is_emissive()) continue;
+        mat.albedo.color_a = lift(mat.albedo.color_a);
+        mat.albedo.color_b = lift(mat.albedo.color_b);
+    }
+    return t;
+}
+
 }  // namespace
 
 GeneratedScene generate_indoor(const GenConfig &cfg, uint64_t seed) {
@@ -351,6 +371,7 @@ GeneratedScene generate_indoor(const GenConfig &cfg, uint64_t seed) {
     place_camera(g, st, cfg, seed);
     g.scene.name = "indoor_" + std::to_string(seed);
     add_meshes(g, st, plan, cfg, seed);
+    const float bright = maybe_brighten(g.scene, cfg.textures, seed);
 
     OrderedJson &md = g.scene.metadata;
     md["generator"] = "ltm-indoor";
@@ -362,6 +383,7 @@ GeneratedScene generate_indoor(const GenConfig &cfg, uint64_t seed) {
     md["light_room"] = st.light_room;
     md["n_lights"] = g.lights.size();
     md["n_furniture"] = g.furniture.size();
+    if (bright > 0.f) md["bright_lift"] = bright;
     md["config"] = cfg.to_json();
     return g;
 }

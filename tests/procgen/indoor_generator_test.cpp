@@ -365,6 +365,46 @@ TEST(IndoorGenerator, GlossyConductorsChangeMaterialsOnly) {
     EXPECT_NEAR(double(half) / pieces, 0.5, 4.0 * std::sqrt(0.25 / pieces)) << pieces << " pieces";
 }
 
+// Bright houses (GenConfig::Textures::p_bright_house) lift the diffuse albedos of the seed's own
+// house toward their hue at 0.85 and change nothing else; the default config writes no new key.
+TEST(IndoorGenerator, BrightHousesLiftAlbedoOnlyAndDefaultsStayAsTheyWere) {
+    EXPECT_FALSE(GenConfig{}.to_json()["textures"].contains("p_bright_house")) << "default houses keep their JSON";
+    GenConfig bright;
+    bright.textures.p_bright_house = 1.f;
+    bright.textures.bright_lift = {0.5f, 0.5f};
+    const auto mean_albedo = [](const Scene &s) {
+        double sum = 0;
+        int n = 0;
+        for (const Material &m : s.materials)
+            if (m.bsdf == BsdfKind::diffuse && !m.is_emissive()) sum += (m.albedo.color_a.x + m.albedo.color_a.y + m.albedo.color_a.z) / 3.0, ++n;
+        return sum / n;
+    };
+    for (uint64_t seed = 0; seed < 6; ++seed) {
+        const GeneratedScene &plain = default_scenes()[seed];
+        const GeneratedScene g = generate_indoor(bright, seed);
+        EXPECT_FALSE(plain.scene.metadata.contains("bright_lift"));
+        EXPECT_FLOAT_EQ(g.scene.metadata.at("bright_lift").get<float>(), 0.5f);
+        ASSERT_EQ(g.scene.meshes.size(), plain.scene.meshes.size());
+        ASSERT_EQ(g.scene.materials.size(), plain.scene.materials.size());
+        for (size_t m = 0; m < g.scene.meshes.size(); ++m) EXPECT_EQ(g.scene.meshes[m].positions, plain.scene.meshes[m].positions);
+        for (size_t i = 0; i < g.scene.materials.size(); ++i) {
+            const Material &a = plain.scene.materials[i], &b = g.scene.materials[i];
+            EXPECT_EQ(a.emission.color_a, b.emission.color_a);
+            if (a.is_emissive()) {
+                EXPECT_EQ(a.albedo.color_a, b.albedo.color_a) << "light diffusers keep their albedo";
+                continue;
+            }
+            // Halfway to the hue at 0.85: the brightest channel is (m + 0.85) / 2, the hue unchanged.
+            const Vec3f c = a.albedo.color_a, d = b.albedo.color_a;
+            const float m = max_component(c);
+            EXPECT_NEAR(max_component(d), 0.5f * (m + 0.85f), 2e-4f) << a.name;
+            if (m > 0.05f) EXPECT_NEAR(d.x / max_component(d), c.x / m, 2e-3f) << a.name;
+            EXPECT_LE(max_component(d), 0.85f + 1e-4f);
+        }
+        EXPECT_GT(mean_albedo(g.scene), mean_albedo(plain.scene) + 0.1) << seed;
+    }
+}
+
 TEST(IndoorGenerator, MetadataRecordsGeneratorSeedAndConfig) {
     GenConfig cfg;
     cfg.camera.width = 64;

@@ -100,6 +100,12 @@ struct GenConfig {
         Vec2f stripe_scale{0.05f, 0.4f};   ///< stripe pair period (m)
         Vec2f noise_scale{0.1f, 0.5f};     ///< noise feature size (m)
         float color_jitter = 0.08f;        ///< relative per-object jitter of palette colours
+        /// A bright house (issue #29/#30, real rooms): with this probability per house every
+        /// diffuse, non-emitting albedo is lifted toward its own hue at 0.85, ρ' = ρ + t·(0.85·ρ/max ρ − ρ),
+        /// t ~ U(bright_lift) once per house. White kitchens and living rooms have mean albedos of
+        /// 0.71–0.77; the default houses 0.38–0.62. 0 (default): the houses of every seed unchanged.
+        float p_bright_house = 0.f;
+        Vec2f bright_lift{0.5f, 1.0f};     ///< range of the lift t of a bright house
     } textures;
 
     struct Lights {
