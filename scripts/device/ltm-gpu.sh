@@ -132,13 +132,14 @@ cmd_collect() {
 
 # One prepared call (device time is short, ~15 min a session with the machine's start): build ltm,
 # bake camera-query records (cpu-s32v: 16 384 queries, 75 % where views look, 32 spp) of unused
-# seeds (SEED0 on; session 18 used 300000-300153) on the 16 cores until BAKE_UNTIL s, then train two sizes side by side on the GPU from
-# their prior (--start-at-prior; the first validation is the prior's own score) until BUDGET s,
+# seeds (SEED0 on; session 18 used 300000-300153) on the 16 cores for BAKE_S s, then train two
+# sizes side by side on the GPU from their prior (--start-at-prior; the first validation is the
+# prior's own score) until BUDGET s from the start,
 # and bring back each size's best weights (F16) and logs. Seeds 300000-399999 are used nowhere
 # else. With INIT_DIR, a size whose INIT_DIR/<size>.safetensors exists fine-tunes from those weights
 # instead of starting at its prior (models/experimental/: device sessions build on each other).
 cmd_session() {
-  local t0=$SECONDS budget=${BUDGET:-520} bake_until=${BAKE_UNTIL:-240} data=/tmp/ltm-data/s32v
+  local t0=$SECONDS budget=${BUDGET:-520} bake_s=${BAKE_S:-100} data=/tmp/ltm-data/s32v
   TARGETS=ltm cmd_setup
   rm -f "$OUT/configure.log" "$OUT/build.log"   # at most 8 files come back
   env_setup
@@ -149,10 +150,11 @@ cmd_session() {
   local bakers=${BAKERS:-6} seed0=${SEED0:-320000} bakes=()
   for ((b = 0; b < bakers; ++b)); do
     "$ltm" dataset build --config configs/data/cpu-s32v.json --threads $(( (16 + bakers - 1) / bakers )) \
-      --seed-range $((seed0 + b * 2000)):$((seed0 + b * 2000 + 2000)) -o $data -q > "$OUT/bake.log" 2>&1 &
+      --seed-range $((seed0 + b * 2000)):$((seed0 + b * 2000 + 2000)) -o $data -q >> "$OUT/bake.log" 2>&1 &
     bakes+=($!)
   done
-  while (( SECONDS - t0 < bake_until )); do sleep 5; done
+  local b0=$SECONDS
+  while (( SECONDS - b0 < bake_s )); do sleep 5; done
   for p in "${bakes[@]}"; do kill $p 2>/dev/null || true; done
   wait "${bakes[@]}" 2>/dev/null || true
   find $data -name '*.tmp*' -delete
@@ -179,11 +181,14 @@ cmd_session() {
   for m in ${MODELS:-cpu-pi small-pi}; do
     local ck=/tmp/ltm-runs/$m/best.ltmckpt
     [[ -f $ck ]] || continue
-    "$ltm" export "$ck" --half -o "$OUT/$m.safetensors" --note "issue #30 device session: $m from its prior, cpu-s32v seeds 300000+" -q || true
+    "$ltm" export "$ck" --half -o "$OUT/$m.safetensors" -q \
+      --note "issue #30 device session: $m, start ${INIT_DIR:+$INIT_DIR or }its prior, cpu-s32v seeds from $seed0" || true
     cp /tmp/ltm-runs/$m/log.jsonl "$OUT/$m.log.jsonl" || true
   done
   for m in ${MODELS:-cpu-pi small-pi}; do
-    echo "== $m"; grep -E "validation|parameters" "$OUT/train-$m.log" | tail -12; grep "steps/s" "$OUT/train-$m.log" | tail -2
+    echo "== $m"
+    grep -E "validation|parameters|error" "$OUT/train-$m.log" | tail -12 || true
+    grep "steps/s" "$OUT/train-$m.log" | tail -2 || true
   done
   echo "session: done in $((SECONDS - t0)) s"
 }
@@ -198,5 +203,5 @@ case "${1:-}" in
   status) cmd_status ;;
   collect) cmd_collect ;;
   session) cmd_session ;;
-  *) echo "usage: $0 fetch|setup|bake A:B|train STEPS [key=value]|status|collect" >&2; exit 2 ;;
+  *) echo "usage: $0 fetch|setup|bake A:B|train STEPS [key=value]|tests|bench STEPS|status|collect|session" >&2; exit 2 ;;
 esac

@@ -200,7 +200,10 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     }
     if (cfg.prior_inputs) {
         // The prior at the scene points: the points as queries, so a query at a point sees the same feature.
-        if (!out.norm.point_prior.defined()) out.norm.point_prior = output_scale(scene_points.slice(1, 0, 9), out.norm);
+        if (!out.norm.point_prior.defined()) {
+            if (!out.norm.transport) LTM_THROW("encode: a given frame needs point_prior (or its transport solve) for the prior inputs");
+            out.norm.point_prior = output_scale(scene_points.slice(1, 0, 9), out.norm);
+        }
         TORCH_CHECK(out.norm.point_prior.dim() == 2 && out.norm.point_prior.size(0) == x.size(0) && out.norm.point_prior.size(1) == 3,
                     "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", out.norm.point_prior.sizes());
         x = torch::cat({x, prior_features(out.norm.point_prior, out.norm)}, 1);   // [M, 15]

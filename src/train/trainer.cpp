@@ -338,10 +338,17 @@ SceneLatents Trainer::latents(CachedScene &sc, const torch::Tensor &scene_points
     const SceneNormalization *frame = f.center.defined() ? &f : nullptr;
     if (m_cfg.freeze != "encoder") return m_model->encode(scene_points, sc.geometry, sc.emission_scale, frame);
     // Frozen and in eval mode (no PTv3 order shuffles): a pure function of the scene and sym.
+    // (Kept on the training device: m·C floats per scene and symmetry, ~1 MB for the cpu preset.)
     const auto it = sc.frozen_latents.find(sym);
     if (it != sc.frozen_latents.end()) return it->second;
     torch::NoGradGuard no_grad;
-    return sc.frozen_latents[sym] = m_model->encode(scene_points, sc.geometry, sc.emission_scale, frame);
+    // Without autograd a model at its prior folds the encoder away (zero features: LtmModelImpl::
+    // fold_prior); these latents feed training, so the encoder must run.
+    const bool fold = m_model->fold_prior;
+    m_model->fold_prior = false;
+    SceneLatents lat = m_model->encode(scene_points, sc.geometry, sc.emission_scale, frame);
+    m_model->fold_prior = fold;
+    return sc.frozen_latents[sym] = std::move(lat);
 }
 
 namespace {

@@ -129,7 +129,6 @@ TEST(FusedDecoder, RejectsKnnMeanDecoder) {
     EXPECT_THROW(FusedDecoder{*dec}, c10::Error);
 }
 
-// predict_irradiance (fused on CPU) equals the libtorch path and output·expm1(decode()) on a real scene.
 // Prior inputs (ModelConfig::prior_inputs): 12 query columns, the same in both paths.
 TEST(FusedDecoder, MatchesModuleWithPriorInputs) {
     torch::manual_seed(15);
@@ -139,6 +138,7 @@ TEST(FusedDecoder, MatchesModuleWithPriorInputs) {
     expect_fused_matches_module(cfg, /*latent_dim=*/64);
 }
 
+// predict_irradiance (fused on CPU) equals the libtorch path and output·expm1(decode()) on a real scene.
 TEST(FusedDecoder, PredictIrradianceMatchesLibtorchPath) {
     torch::manual_seed(14);
     const ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
