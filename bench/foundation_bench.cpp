@@ -5,7 +5,7 @@
 #include "ltm/core/parallel.h"
 #include "ltm/core/startup.h"
 #include "ltm/points/surface_sampler.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/transport_prior.h"
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/render/embree_accel.h"
 #include "ltm/render/enclosure.h"
@@ -48,7 +48,7 @@ static void BM_EmbreeBuild(benchmark::State &state) {
 BENCHMARK(BM_EmbreeBuild)->Unit(benchmark::kMillisecond);
 
 
-// The transport prior (points/transport_prior.h) on a generated house: solve among m nodes (the
+// The transport prior (transport/transport_prior.h) on a generated house: solve among m nodes (the
 // model's anchors: m = 4 096, D = 8) and gather at 65 536 receivers (a 512² frame at GI stride 2).
 static PointSet transport_nodes(int64_t m) {
     const Scene s = generate_indoor(GenConfig{}, 42).scene;

@@ -24,7 +24,7 @@
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/metrics.h"
 #include "ltm/eval/reference_cache.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/transport_prior.h"
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/scene/scene_loader.h"
 #include "ltm/render/gbuffer.h"
@@ -85,10 +85,10 @@ int main(int argc, char **argv) {
     for (const std::string &n : names) {
         // Fields H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]]: voxel edge, clusters, then optional the tangent splat, a
         // factor on the node area a (with rows normalised, a only sets the near-field term a/π and, with P, the patches' side and reach), a
-        // disc radius (points/disc_occluder.h; 0 = voxels), lengths in spacings; the power balance
+        // disc radius (transport/disc_occluder.h; 0 = voxels), lengths in spacings; the power balance
         // B (PriorBalance: 0 per channel, 1 grey, 2 none), the bounces K (0 = 8) and the clusters a
         // receiver's visibility blends L (VisibilityOptions::blend; 0 = 1); P = 1: the near field
-        // by square patches (points/patch_form_factor.h); O > 0: rows sum to each receiver's closure
+        // by square patches (transport/patch_form_factor.h); O > 0: rows sum to each receiver's closure
         // from O × O rays per cluster centre (VisibilityOptions::open_rays).
         std::vector<float> f;
         for (size_t b = 0; b <= n.size();) {

@@ -9,7 +9,7 @@ spacing, a = pi r_8^2 / 8; the results barely depend on it), radiance L_e,j (emi
     L_1 = rho/pi * G L_e,  L_{k+1} = rho/pi * G L_k,  E+(q) = sum_j G_qj * sum_{k=1..D} L_k,j.
 Variants: 'rad' (as above), 'rad-pb' (rad's shape rescaled so its area mean equals the global power
 balance), 'norm' (each receiver's row normalised to sum 1, exitance B = pi L: what
-points/transport_prior.h implements), 'norm-pb' (its shape at the power-balance level), 'mix',
+transport/transport_prior.h implements), 'norm-pb' (its shape at the power-balance level), 'mix',
 'global' (the flat model's output scale). Reported per house as MSE / flat-oracle MSE on
 spread query points (every 4th row: records store queries mesh by mesh) and level mean(prior)/mean(ref).
 Usage: python3 radiosity_prior.py DIR [max_records] [bounces]

@@ -2,7 +2,7 @@
 """visibility_prior.py: does a visibility test made from the scene points alone fix the transport
 prior's main failure (light seen through walls)?  (issue #10, measured before building it in C++.)
 
-The prior of points/transport_prior.h (row-normalised disc transfer, D bounces from B0 = pi L),
+The prior of transport/transport_prior.h (row-normalised disc transfer, D bounces from B0 = pi L),
 once without visibility and once with V_ij from a voxel occupancy grid of the scene points: a voxel
 of edge h = c * spacing (spacing = sqrt(A/M) from the 8th-neighbour distance) is solid when a
 scene point lies in it; the segment between two points (each moved eps = h/2 along its normal)

@@ -11,8 +11,8 @@
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/reference_cache.h"
 #include "ltm/infer/neural_renderer.h"
-#include "ltm/points/power_balance.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/power_balance.h"
+#include "ltm/transport/transport_prior.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/scene_points.h"
 
@@ -88,13 +88,13 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
         const auto prior = power_balance_irradiance(sampled.points, PathTracerConfig{}.max_depth, &sampled.emission_scale);
         const double prior_seconds = std::chrono::duration<double>(Clock::now() - t_prior).count();
-        // The visibility-free radiosity prior (points/transport_prior.h) with every scene point a
+        // The visibility-free radiosity prior (transport/transport_prior.h) with every scene point a
         // node and D = 8, as configs/model/cpu-tp.json: its level per point, no network.
         const auto t_transport = Clock::now();
         const TransportPrior transport = solve_transport_prior(
             sampled.points, float(es.scene.total_area() / double(sampled.points.size())), 8, &sampled.emission_scale);
         const double transport_seconds = std::chrono::duration<double>(Clock::now() - t_transport).count();
-        // With occlusion from the points alone (points/point_visibility.h) as configs/model/cpu-tp.json
+        // With occlusion from the points alone (transport/point_visibility.h) as configs/model/cpu-tp.json
         // since v0.9: 1 024 clusters, segments tested against the points as discs of one spacing,
         // no power balance, D = 5 as the references (bench/prior_ablation.cpp compares the settings);
         // since v0.10 each receiver blends the visibility of its 4 nearest visible clusters and the
@@ -165,7 +165,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             };
             // The floor: every pixel the reference's own mean colour (eval/field_metrics.h).
             add("flat-oracle", flat(mean_color(ref_hits)), 0.0, 0);
-            // The closed-form power-balance level from the scene points alone (points/power_balance.h):
+            // The closed-form power-balance level from the scene points alone (transport/power_balance.h):
             // what the model's prior gives before the network adds anything.
             add("flat-prior", flat(prior), prior_seconds, 0);
             {

@@ -7,7 +7,7 @@
 #include "ltm/core/log.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/farthest_points.h"
-#include "ltm/points/point_visibility.h"
+#include "ltm/transport/point_visibility.h"
 #include "ltm/render/hemisphere_bins.h"
 #include "ltm/render/scene_points.h"
 

@@ -60,14 +60,14 @@ PointSet scene_point_table(const torch::Tensor &rows) {
     return p;
 }
 
-// The transport prior (points/transport_prior.h) in the normalised frame, among the FPS anchors
+// The transport prior (transport/transport_prior.h) in the normalised frame, among the FPS anchors
 // (prior_nodes "anchors") or every scene point ("points"). Each of n nodes stands for M/n scene
 // points; a scene point for π (3ℓ/2)² / k of area — the k group members of an FPS centre lie
 // within ~3ℓ/2 (mean distance 2/3 of a disc's radius), and ℓ = 1 in this frame. Emitters are few
 // (20–130 of 8 192 points), so the solver rescales the nodes' emission per channel to
 // π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp that FPS
 // missed) uses every scene point as a node instead. With prior_visibility, occlusion from the
-// voxels of every scene point (points/point_visibility.h), edge prior_visibility × the points' own
+// voxels of every scene point (transport/point_visibility.h), edge prior_visibility × the points' own
 // spacing (measured from them, so the grid does not move with ℓ); with prior_discs, segments are
 // tested against every scene point as a disc of that many spacings instead.
 std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,

@@ -55,7 +55,7 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_bounces", &C::prior_bounces, "bounces D of the power-balance prior the output is a ratio to (0 = none)", between(0, 64))
             .field("translation_invariant", &C::translation_invariant, "no layer sees an absolute position, only differences")
             .omit_default()
-            .field("prior_field", &C::prior_field, "one level per scene, or the radiosity solve among the points (points/transport_prior.h)", {}, {"flat", "transport"})
+            .field("prior_field", &C::prior_field, "one level per scene, or the radiosity solve among the points (transport/transport_prior.h)", {}, {"flat", "transport"})
             .omit_default()
             .field("prior_nodes", &C::prior_nodes, "the transport prior's nodes: the FPS anchors or all scene points", {}, {"anchors", "points"})
             .omit_default()

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "ltm/points/power_balance.h"
+#include "ltm/transport/power_balance.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/render/enclosure.h"
 

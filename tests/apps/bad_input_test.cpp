@@ -168,7 +168,7 @@ TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
     for (std::string line; std::getline(lines, line);) {
         if (line.rfind("ltm render: error: ", 0) == 0) {
             ++errors;
-            // The prior's voxel grid or disc grid (points/point_visibility.h, disc_occluder.h) or the encoder's grid: whichever
+            // The prior's voxel grid or disc grid (transport/point_visibility.h, disc_occluder.h) or the encoder's grid: whichever
             // the model meets first.
             EXPECT_NE(line.find("too large for the"), std::string::npos) << line;
         } else {

@@ -11,9 +11,9 @@
 #include "ltm/nn/knn.h"
 #include "ltm/nn/ltm_model.h"
 #include "ltm/nn/point_tensor.h"
-#include "ltm/points/power_balance.h"
+#include "ltm/transport/power_balance.h"
 #include "ltm/points/surface_sampler.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/transport_prior.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "test_util.h"
 #include "tiny_scene_fixture.h"
@@ -260,7 +260,7 @@ TEST(Physics, TransportPriorKeepsTheSymmetriesAndMatchesTheFurnace) {
     EXPECT_LT((fs - expect).abs().max().item<double>(), 1e-3 * expect.max().item<double>()) << fs.slice(0, 0, 4);
 }
 
-// prior_nodes = "points": the model's prior is the torch-free solver's (points/transport_prior.h)
+// prior_nodes = "points": the model's prior is the torch-free solver's (transport/transport_prior.h)
 // on every scene point in the normalised frame — two code paths, one number — and no longer
 // depends on which points FPS picked: a unit change by 10 (not a power of two, so FPS near-ties
 // may flip) moves the prior only by rounding, while with anchors as nodes it moves visibly.
@@ -300,7 +300,7 @@ TEST(Physics, TransportPriorOnEveryPointIsTheSolversAndUnitInvariant) {
     EXPECT_GT(unit_error(anchors), 5.0 * unit_error(f.cfg));
 }
 
-// prior_visibility: occlusion from the points' voxels (points/point_visibility.h). Still the torch-
+// prior_visibility: occlusion from the points' voxels (transport/point_visibility.h). Still the torch-
 // free solver's number, still exactly linear in emission and (for a power-of-two unit, which maps
 // the voxel grid onto itself) exactly unit-invariant; and it changes the prior.
 TEST(Physics, TransportPriorWithVisibilityIsTheSolversAndKeepsTheSymmetries) {
@@ -348,7 +348,7 @@ TEST(Physics, NormalisationMatchesItsDefinition) {
     EXPECT_TRUE(torch::allclose(n.emission, s));
     const auto rho = f.sp.slice(1, 6, 9).mean(0);
     EXPECT_TRUE(torch::allclose(n.output, s * (rho + rho.pow(2) + rho.pow(3) + rho.pow(4) + rho.pow(5)), 1e-5, 0));
-    // The torch prior and the torch-free one (points/power_balance.h, eval's flat-prior row) agree.
+    // The torch prior and the torch-free one (transport/power_balance.h, eval's flat-prior row) agree.
     const auto pb = power_balance_irradiance(to_scene_points(sample_surface(f.scene, f.cfg.scene_points, 1, SampleStream::scene_points)), 5);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(n.output[c].item<double>(), pb[size_t(c)], 1e-5 * pb[size_t(c)]) << c;
     EXPECT_NEAR(power_balance_factor(torch::tensor({1.0f}), 5).item<double>(), 5.0, 0);

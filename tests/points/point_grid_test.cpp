@@ -9,7 +9,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/points/point_grid.h"
-#include "ltm/points/point_visibility.h"
+#include "ltm/transport/point_visibility.h"
 
 using namespace ltm;
 

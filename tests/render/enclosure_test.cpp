@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ltm/points/power_balance.h"
+#include "ltm/transport/power_balance.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/render/enclosure.h"

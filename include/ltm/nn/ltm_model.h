@@ -13,7 +13,7 @@
 #include "ltm/nn/nn_embedding.h"
 #include "ltm/nn/ptv3.h"
 #include "ltm/nn/query_decoder.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/transport_prior.h"
 
 namespace ltm {
 

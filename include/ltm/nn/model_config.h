@@ -100,7 +100,7 @@ struct PhysicsConfig {
     /// can fit a field per position (the dataset's average house) instead of reading the scene.
     bool translation_invariant = false;
     /// Where the prior's level lives: "flat" (one power-balance level per scene, above) or
-    /// "transport" (points/transport_prior.h: a visibility-free radiosity solve among the anchors,
+    /// "transport" (transport/transport_prior.h: a visibility-free radiosity solve among the anchors,
     /// gathered at every query point, D = prior_bounces — one level per point, exact in the
     /// furnace). Needs prior_bounces > 0 and length_scale (node areas are in units of ℓ).
     std::string prior_field = "flat";
@@ -109,7 +109,7 @@ struct PhysicsConfig {
     /// is as unit-invariant as the points themselves; on 32 validation houses' views MSE 0.0151 vs
     /// 0.0178 with anchors). Only with prior_field "transport".
     std::string prior_nodes = "anchors";
-    /// Occlusion in the transport prior from the scene points alone (points/point_visibility.h):
+    /// Occlusion in the transport prior from the scene points alone (transport/point_visibility.h):
     /// the voxel edge in units of the points' own spacing (point_spacing: ≈ √(A/M); 1 measured best
     /// on the validation views, v0.8; bench/prior_ablation.cpp); 0 = none.
     float prior_visibility = 0.f;
@@ -117,7 +117,7 @@ struct PhysicsConfig {
     /// between them, C²/2 segments. Only with prior_visibility > 0.
     int prior_clusters = 1024;
     /// > 0: the prior's segments are tested against the scene points as oriented discs of this
-    /// radius in point spacings (points/disc_occluder.h; no false occlusion along edges) instead of
+    /// radius in point spacings (transport/disc_occluder.h; no false occlusion along edges) instead of
     /// the voxels (whose edge then no longer matters). 0 = voxels. Only with prior_visibility > 0.
     float prior_discs = 0.f;
     /// How the occluded prior restores the enclosure's power balance (PriorBalance): "channel"
@@ -130,7 +130,7 @@ struct PhysicsConfig {
     /// cluster's, so the prior has no seams where pixels change cluster. 1 = one cluster (v0.9).
     /// Only with prior_visibility > 0.
     int prior_blend = 1;
-    /// The transport prior's near field by square patches (points/patch_form_factor.h): nodes
+    /// The transport prior's near field by square patches (transport/patch_form_factor.h): nodes
     /// within 2.5 spacings of a receiver weigh by the exact form factor of a square of the node's
     /// area, so a receiver at a concave edge sees the adjacent wall over half its hemisphere (the
     /// point formula at the nodes' centres gave it ~0: bright seams). Only with prior_field "transport".

@@ -1,6 +1,6 @@
 // farthest_points.h: exact farthest point sampling on 3-D positions, torch-free — the one loop
 // behind the model's anchors (nn/knn.h, CPU) and the transport prior's visibility clusters
-// (points/point_visibility.h).
+// (transport/point_visibility.h).
 #pragma once
 
 #include <cstddef>

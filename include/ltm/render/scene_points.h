@@ -1,7 +1,7 @@
 // scene_points.h: the model's input point cloud of a scene, sampled one way for every user (the
 // dataset's records, the neural renderer, the eval floors): area-uniform scene points (stream
 // scene_points) without the surfaces enclosed by solids, and the scene's exact emission scale
-// S = Φ/A over the same surface (points/power_balance.h), which the model's emission
+// S = Φ/A over the same surface (transport/power_balance.h), which the model's emission
 // normalisation uses instead of the noisy mean over the few points that land on emitters.
 #pragma once
 

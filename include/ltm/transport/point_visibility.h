@@ -1,5 +1,5 @@
 // point_visibility.h: which parts of a scene see each other, from its scene points alone — the
-// transport prior's occlusion (points/transport_prior.h). No ray tracing of the meshes, so the
+// transport prior's occlusion (transport/transport_prior.h). No ray tracing of the meshes, so the
 // paper's "no illumination cues" still holds: the input is the point cloud the model reads.
 //
 // A voxel grid of edge h records, per voxel, which ways the surfaces of its scene points face
@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "ltm/core/math.h"
-#include "ltm/points/disc_occluder.h"
+#include "ltm/transport/disc_occluder.h"
 #include "ltm/points/point_grid.h"
 
 namespace ltm {
@@ -75,7 +75,7 @@ struct VisibilityOptions {
     /// spacing; 0 = each point marks only its own voxel.
     float splat_spacings = 0.f;
     /// > 0: segments are tested against the occupancy points as oriented discs of this radius in
-    /// units of the points' spacing (points/disc_occluder.h) instead of the voxels; the voxel grid
+    /// units of the points' spacing (transport/disc_occluder.h) instead of the voxels; the voxel grid
     /// then only supplies the cluster grid's centre (its edge comes from the points' spacing and
     /// count, transport_prior.cpp). 0 = voxels.
     float disc_spacings = 0.f;
@@ -86,7 +86,7 @@ struct VisibilityOptions {
     /// R > 0: each cluster centre casts R² cosine-distributed rays (an R × R stratified grid of the
     /// concentric map) against the discs, and the share that meets a disc is its closure c (1 − its
     /// open share: a window to nothing, an open side); a receiver's row of the prior then sums to its
-    /// blended c instead of 1 (points/transport_prior.h). Needs discs. 0 = every receiver closed (v0.11).
+    /// blended c instead of 1 (transport/transport_prior.h). Needs discs. 0 = every receiver closed (v0.11).
     int open_rays = 0;
 };
 
@@ -165,7 +165,7 @@ constexpr float k_closure_disc_spacings = 1.5f;
 /// `cell` > 0 sets g directly. The voxel count n_solid changes by one with each voxel that float
 /// rounding flips under a change of unit, and g with it, moving the cell boundaries far from the
 /// grid's centre; so with discs the prior passes g = s·√(2·κ·M/C) from the points' spacing s and
-/// count M instead (points/transport_prior.cpp; physics check of v0.9 on 8 test houses: unit error
+/// count M instead (transport/transport_prior.cpp; physics check of v0.9 on 8 test houses: unit error
 /// 0.64 % mean / 3.0 % max → 0.55 % / 1.9 %).
 /// Throws ltm::Error on mismatched sizes or bad options.
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &node_position, const std::vector<Vec3f> &node_normal,

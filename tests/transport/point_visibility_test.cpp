@@ -10,8 +10,8 @@
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/sampling.h"
-#include "ltm/points/point_visibility.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/point_visibility.h"
+#include "ltm/transport/transport_prior.h"
 #include "point_rooms.h"
 
 using namespace ltm;

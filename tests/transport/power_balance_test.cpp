@@ -4,7 +4,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/math.h"
-#include "ltm/points/power_balance.h"
+#include "ltm/transport/power_balance.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/mesh_builder.h"

@@ -1,5 +1,5 @@
 // transport_prior.cpp: the visibility-free radiosity solve and its gather (equations in the header).
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/transport_prior.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,9 +11,9 @@
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/sampling.h"
-#include "ltm/points/patch_form_factor.h"
+#include "ltm/transport/patch_form_factor.h"
 #include "ltm/points/point_grid.h"
-#include "ltm/points/power_balance.h"
+#include "ltm/transport/power_balance.h"
 
 namespace ltm {
 
@@ -142,7 +142,7 @@ struct NearNodes {
     NearNodes(const std::vector<Vec3f> &pos, float s) : grid(pos, 2.5f * s), side(s) {}
 };
 
-// Replaces the point formula by the square patch's exact form factor (points/patch_form_factor.h)
+// Replaces the point formula by the square patch's exact form factor (transport/patch_form_factor.h)
 // for the nodes near the receiver (p, n), blended over r ∈ [1.5 s, 2.5 s] so the row has no seam:
 //     t_j = (1 − β) · F_j · π/a + β · t_j(point),   β = clamp((r − 1.5 s)/s, 0, 1),
 // F · π/a being the point term's scale (the on-axis disc: a/(πr² + a) = (a/π) · t). Only places
@@ -262,7 +262,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         // node drops out of a row, the near ones gain, and the lit rooms recirculate too much light
         // (validation views: level 1.19). Restore the enclosure's balance per channel: the area mean
         // of E⁺ at the nodes (equal areas) is π L̄_c Σ_{k=1..D} ρ̄_c^k, as in a closed box (exact in
-        // the furnace; points/power_balance.h).
+        // the furnace; transport/power_balance.h).
         Vec3f mean_e(0.f), mean_rho(0.f), mean_le(0.f);
         for (size_t i = 0; i < m; ++i) {
             for (int c = 0; c < 3; ++c) mean_e[c] += sparse_dot(g[i].data(), g_runs[i], ex[c].data()) / float(m);

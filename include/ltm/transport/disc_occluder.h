@@ -44,7 +44,7 @@ public:
     /// Does the ray from `origin` along `direction` (any length > 0) meet a disc from either side
     /// (not grazing), more than r/1000 from its origin, before it leaves the discs' box? A ray that
     /// meets none escapes the scene: the share of a hemisphere's rays that escape is the point's
-    /// open share (the transport prior's openness, points/transport_prior.h).
+    /// open share (the transport prior's openness, transport/transport_prior.h).
     bool ray_meets_disc(Vec3f origin, Vec3f direction) const;
 
 private:

@@ -1,6 +1,6 @@
 // point_visibility.cpp: voxel occupancy of the scene points and visibility between node clusters
 // (definitions in the header).
-#include "ltm/points/point_visibility.h"
+#include "ltm/transport/point_visibility.h"
 
 #include <cmath>
 #include <algorithm>

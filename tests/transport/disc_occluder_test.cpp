@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "ltm/core/error.h"
-#include "ltm/points/disc_occluder.h"
+#include "ltm/transport/disc_occluder.h"
 #include "point_rooms.h"
 
 using namespace ltm;

@@ -1,6 +1,6 @@
 // power_balance.cpp: π · mean(e_c) · Σ_{k=1..D} mean(ρ_c)^k over area-uniform scene points, and
 // the exact Φ/A of a scene's meshes.
-#include "ltm/points/power_balance.h"
+#include "ltm/transport/power_balance.h"
 
 #include <algorithm>
 

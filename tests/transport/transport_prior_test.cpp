@@ -6,8 +6,8 @@
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/sampling.h"
-#include "ltm/points/patch_form_factor.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/patch_form_factor.h"
+#include "ltm/transport/transport_prior.h"
 #include "point_rooms.h"
 
 using namespace ltm;

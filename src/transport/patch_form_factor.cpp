@@ -1,5 +1,5 @@
 // patch_form_factor.cpp: Lambert's contour integral for a square clipped to a hemisphere (header).
-#include "ltm/points/patch_form_factor.h"
+#include "ltm/transport/patch_form_factor.h"
 
 #include <algorithm>
 #include <cmath>

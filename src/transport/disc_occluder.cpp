@@ -1,5 +1,5 @@
 // disc_occluder.cpp: oriented discs binned in a cube grid, segments walked by a 3D DDA (header).
-#include "ltm/points/disc_occluder.h"
+#include "ltm/transport/disc_occluder.h"
 
 #include <algorithm>
 #include <cmath>

@@ -18,7 +18,7 @@
 // the unit of length when a scales with length² (measured on generated houses: MSE 0.42× the
 // house-wide flat oracle's, scripts/analysis/radiosity_prior.py, docs/results.md).
 //
-// Optional occlusion from the points alone (points/point_visibility.h): Ĝ_ij is multiplied by
+// Optional occlusion from the points alone (transport/point_visibility.h): Ĝ_ij is multiplied by
 // V(cluster(i), cluster(j)) before each row's normalisation, and the gather likewise — a node's
 // light then reaches only the clusters that see its cluster (the failure it fixes: light through
 // walls). Approximate occlusion breaks the closure that balances power (falsely blocked far nodes
@@ -39,7 +39,7 @@
 // adjacent wall at a concave edge (a receiver at distance x from the edge sees it over half its
 // hemisphere, through elements within ~x of the edge). With patches, nodes within 2.5 s of a
 // receiver (s = √a) weigh by the exact form factor F_j of a square of side s
-// (points/patch_form_factor.h), as t_j = F_j · π/a — the point term's scale — blended into the
+// (transport/patch_form_factor.h), as t_j = F_j · π/a — the point term's scale — blended into the
 // point formula over r ∈ [1.5 s, 2.5 s]. In the solve and the gather alike.
 #pragma once
 
@@ -48,7 +48,7 @@
 
 #include "ltm/core/math.h"
 #include "ltm/points/point_set.h"
-#include "ltm/points/point_visibility.h"
+#include "ltm/transport/point_visibility.h"
 
 namespace ltm {
 

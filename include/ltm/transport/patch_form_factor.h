@@ -1,5 +1,5 @@
 // patch_form_factor.h: the form factor from a differential surface element to a square patch —
-// the transport prior's near field (points/transport_prior.h).
+// the transport prior's near field (transport/transport_prior.h).
 //
 // The prior treats each node as a small emitter of area a and weighs it by the point formula
 // cosθ_r cosθ_s / (r² + a/π). Near a concave edge this fails where it matters most: a receiver at

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "ltm/points/patch_form_factor.h"
+#include "ltm/transport/patch_form_factor.h"
 
 using namespace ltm;
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "ltm/core/math.h"
-#include "ltm/points/transport_prior.h"
+#include "ltm/transport/transport_prior.h"
 
 namespace ltm::test {
 
