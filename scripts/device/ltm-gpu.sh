@@ -131,7 +131,8 @@ cmd_collect() {
 }
 
 # One prepared call (device time is short, ~15 min a session with the machine's start): build ltm,
-# bake camera-query records (cpu-s32v: 16 384 queries, 75 % where views look, 32 spp) of unused
+# bake camera-query records (PRESET, default cpu-s32v-wide: 16 384 queries, 75 % where views look,
+# 32 spp, 40 % bright houses; session 18 baked cpu-s32v) of unused
 # seeds (SEED0 on; session 18 used 300000-300153) on the 16 cores for BAKE_S s, then train two
 # sizes side by side on the GPU from their prior (--start-at-prior; the first validation is the
 # prior's own score) until BUDGET s from the start,
@@ -149,7 +150,7 @@ cmd_session() {
   # BAKERS processes of 16/BAKERS threads bake disjoint seed ranges into the same folder.
   local bakers=${BAKERS:-6} seed0=${SEED0:-320000} bakes=()
   for ((b = 0; b < bakers; ++b)); do
-    "$ltm" dataset build --config configs/data/cpu-s32v.json --threads $(( (16 + bakers - 1) / bakers )) \
+    "$ltm" dataset build --config ${PRESET:-configs/data/cpu-s32v-wide.json} --threads $(( (16 + bakers - 1) / bakers )) \
       --seed-range $((seed0 + b * 2000)):$((seed0 + b * 2000 + 2000)) -o $data -q >> "$OUT/bake.log" 2>&1 &
     bakes+=($!)
   done
