@@ -95,11 +95,7 @@ std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer 
     torch::NoGradGuard no_grad;
     const int64_t n = int64_t(gb.n_hits());
     if (n == 0) return {};
-    // As LtmModelImpl::predict_irradiance's folded path: z = softplus(0) whatever the latents.
-    const auto &norm = enc.latents.norm;
-    const auto z = torch::softplus(torch::zeros({n, 3}, norm.output.options()));
-    return rows_of(irradiance_from_z(z, output_scale(gbuffer_queries(gb, nullptr).to(norm.output.device()), norm)), n,
-                   "predict_gbuffer_prior: prior");
+    return rows_of(prior_irradiance(gbuffer_queries(gb, nullptr), enc.latents.norm), n, "predict_gbuffer_prior: prior");
 }
 
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {

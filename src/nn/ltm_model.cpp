@@ -240,11 +240,8 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     if (fold_prior && decoder->at_prior()) {
         // z = softplus(0) at every query (fold_prior in the header): only the prior is gathered.
         std::vector<torch::Tensor> parts;
-        for (int64_t s = 0; s < query_points.size(0); s += chunk) {
-            const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
-            const auto z = torch::softplus(torch::zeros({qp.size(0), 3}, qp.options()));
-            parts.push_back(irradiance_from_z(z, output_scale(qp, latents.norm)));
-        }
+        for (int64_t s = 0; s < query_points.size(0); s += chunk)
+            parts.push_back(prior_irradiance(query_points.slice(0, s, std::min(query_points.size(0), s + chunk)), latents.norm));
         local.decode += since(t);
         if (timings) timings->decode += local.decode;
         return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
@@ -327,6 +324,12 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 }
 
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }
+
+torch::Tensor prior_irradiance(const torch::Tensor &query_points, const SceneNormalization &norm) {
+    torch::NoGradGuard no_grad;
+    const auto z = torch::softplus(torch::zeros({query_points.size(0), 3}, norm.output.options()));
+    return irradiance_from_z(z, output_scale(query_points.to(norm.output.device()), norm));
+}
 
 torch::Tensor prior_features(const torch::Tensor &prior, const SceneNormalization &norm) {
     TORCH_CHECK(prior.dim() == 2 && prior.size(1) == 3, "prior_features: prior must be [N, 3], got ", prior.sizes());

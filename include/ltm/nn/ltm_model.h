@@ -131,6 +131,11 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 /// 10⁻³ · norm.output / π like output_scale.   query_points [N, 9] raw, direction [N, 3] -> [3] or [N, 3]
 torch::Tensor radiance_scale(const torch::Tensor &query_points, const torch::Tensor &direction, const SceneNormalization &norm,
                              int cells);
+/// The model's prior alone, the network silenced: irradiance_from_z(softplus(0), output_scale) —
+/// the value of a decoder whose output layer is zero (start_at_prior), bit for bit, so the folded
+/// path and the `model-prior` rows of `ltm eval` give the network's numbers at its prior.
+///   query_points [N, 9] raw -> [N, 3]
+torch::Tensor prior_irradiance(const torch::Tensor &query_points, const SceneNormalization &norm);
 /// The prior as a network input: log1p(Ê⁺ / norm.output) per channel (0 in a dark channel).
 /// Ê⁺ and norm.output = S_c·Σρ̄^k both scale with emission and neither depends on the unit, so the
 /// feature is invariant to both; log1p keeps the range of bright and shadowed points moderate.
