@@ -285,6 +285,29 @@ TrainConfig directional_train(int steps) {
 // `--freeze encoder --head directional`: only the head's parameters change (the embedding, PTv3
 // and the irradiance decoder keep their bits), the head's do, and validation reports the L_in
 // error, its uniform-radiance floor and the hemisphere integral against both E's.
+// A frozen encoder's latents are cached without autograd; a model at its prior must still run
+// its encoder for them (LtmModelImpl::fold_prior would give zero features). After two steps from
+// the prior, the trainer's validation (cached latents) equals a fresh trainer's on the same weights.
+TEST(Trainer, FrozenEncoderFromThePriorCachesTheEncodersLatents) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    TrainConfig t = small_train(2);
+    t.freeze = "encoder";
+    t.lr = 1e-2;
+    Trainer trainer(mc, t, {dataset_dir()}, dir.path("run"));
+    trainer.model()->decoder->start_at_prior();
+    trainer.run(false);   // validates at step 0 (the prior: latents cached), then trains 2 steps
+    ASSERT_FALSE(trainer.model()->decoder->at_prior()) << "the decoder trained";
+    EXPECT_TRUE(trainer.model()->fold_prior) << "restored";
+    const double cached = trainer.validate();
+    save_weights(dir.path("w.safetensors"), trainer.model());
+    TrainConfig t0 = t;
+    t0.steps = 0;
+    Trainer fresh(mc, t0, {dataset_dir()}, dir.path("run2"));
+    fresh.init_weights(dir.path("w.safetensors"));
+    EXPECT_NEAR(fresh.validate(), cached, 1e-6 * std::abs(cached)) << "the cached latents are the encoder's";
+}
+
 TEST(Trainer, FrozenEncoderTrainsOnlyTheDirectionalHead) {
     test::TempDir dir;
     const ModelConfig mc = tiny_with_head();
