@@ -185,10 +185,18 @@ SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) co
     return g;
 }
 
+SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
+                                             const torch::Tensor &emission_scale) const {
+    SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
+    // The points as queries, so a query at a scene point sees that point's feature.
+    if (cfg.prior_inputs) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
+    return n;
+}
+
 SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                   const torch::Tensor &emission_scale, const SceneNormalization *frame) {
     SceneLatents out;
-    out.norm = frame ? *frame : scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
+    out.norm = frame ? *frame : scene_frame(scene_points, geometry, emission_scale);
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     // (Non-finite scene points take the network's path, which reports them.)
@@ -199,11 +207,7 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
         return out;
     }
     if (cfg.prior_inputs) {
-        // The prior at the scene points: the points as queries, so a query at a point sees the same feature.
-        if (!out.norm.point_prior.defined()) {
-            if (!out.norm.transport) LTM_THROW("encode: a given frame needs point_prior (or its transport solve) for the prior inputs");
-            out.norm.point_prior = output_scale(scene_points.slice(1, 0, 9), out.norm);
-        }
+        if (!out.norm.point_prior.defined()) LTM_THROW("encode: the given frame has no point_prior (make it with scene_frame)");
         TORCH_CHECK(out.norm.point_prior.dim() == 2 && out.norm.point_prior.size(0) == x.size(0) && out.norm.point_prior.size(1) == 3,
                     "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", out.norm.point_prior.sizes());
         x = torch::cat({x, prior_features(out.norm.point_prior, out.norm)}, 1);   // [M, 15]
@@ -256,10 +260,10 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
         const auto scale = output_scale(qp, latents.norm);   // the prior at the queries: input and output frame
         if (!fused) {
-            parts.push_back(irradiance_from_z(decode(qp, latents, cfg.prior_inputs ? scale : torch::Tensor()), scale));
+            parts.push_back(irradiance_from_z(decode(qp, latents, scale), scale));
             continue;
         }
-        const auto q = query_inputs(qp, latents.norm, cfg.prior_inputs ? scale : torch::Tensor());
+        const auto q = query_inputs(qp, latents.norm, scale);
         const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
         local.decode += since(t);
         t = clock::now();

@@ -161,8 +161,7 @@ Trainer::CachedScene &Trainer::scene(size_t index) {
         if (m_cfg.head != "directional") {
             // The directional head's radiance_scale gathers the solved prior itself in the draw's frame.
             torch::NoGradGuard no_grad;
-            c->frame = scene_normalization(c->scene_points, c->geometry, m_model_cfg.physics, c->emission_scale);
-            if (m_model_cfg.prior_inputs) c->frame.point_prior = output_scale(c->scene_points.slice(1, 0, 9), c->frame);
+            c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale);
             c->query_scale = output_scale(c->query_points, c->frame);
             c->frame.transport.reset();   // every value needed is kept; the solve's memory is not
         }

@@ -69,8 +69,7 @@ TEST(PriorInputs, CachedFrameUnderASymmetryMatchesTheSolvedFrame) {
     LtmModel m = test::model_with_random_part(f.cfg, 6, "decoder");
     torch::NoGradGuard no_grad;
     const SceneGeometry g = m->scene_geometry(f.sp);
-    SceneNormalization frame = scene_normalization(f.sp, g, f.cfg.physics);
-    frame.point_prior = output_scale(f.sp.slice(1, 0, 9), frame);
+    const SceneNormalization frame = m->scene_frame(f.sp, g);
     const auto q_scale = output_scale(f.qp, frame);
     for (int s : {1, 6}) {
         const auto sp = apply_symmetry(f.sp, s), qp = apply_symmetry(f.qp, s);

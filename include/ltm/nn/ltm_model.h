@@ -37,8 +37,7 @@ struct SceneNormalization {
     /// E⁺ = prior(query) · expm1(z) instead of output · expm1(z). Null for the "flat" prior.
     std::shared_ptr<const TransportPrior> transport;
     /// [M, 3] the prior at every scene point (output_scale of the points as queries, raw units):
-    /// the encoder's prior inputs (ModelConfig::prior_inputs). Set by encode() when needed, or
-    /// given with the rest of the frame (the trainer computes it once per scene).
+    /// the encoder's prior inputs (ModelConfig::prior_inputs; LtmModelImpl::scene_frame sets it).
     torch::Tensor point_prior;
 };
 
@@ -75,15 +74,21 @@ struct LtmModelImpl : torch::nn::Module {
 
     //   scene_points [M, 12] (raw: metres, emission radiance) -> FPS/kNN indices
     SceneGeometry scene_geometry(const torch::Tensor &scene_points) const;
+    /// The scene's normalisation with all the network reads from it: scene_normalization, and with
+    /// prior_inputs the prior at every scene point (point_prior).
+    ///   scene_points [M, 12] raw, emission_scale [3] (optional) -> SceneNormalization
+    SceneNormalization scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
+                                   const torch::Tensor &emission_scale = {}) const;
     //   scene_points [M, 12] raw, emission_scale [3] (S = Φ/A, optional) -> latents at m anchors
-    /// frame: the scene's normalisation computed beforehand for these very points (with
-    /// point_prior when prior_inputs), so the prior is not solved again (the trainer's cache:
-    /// it solves once per scene and moves the frame with its symmetries); null: computed here.
+    /// frame: scene_frame() computed beforehand for these very points, so the prior is not solved
+    /// again (the trainer's cache: it solves once per scene and moves the frame with its
+    /// symmetries); null: computed here.
     SceneLatents encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                         const torch::Tensor &emission_scale = {}, const SceneNormalization *frame = nullptr);
     //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺ / output_scale); kNN among anchors computed here.
-    /// scale [N, 3]: output_scale(query_points, latents.norm) when already known (it is also the
-    /// prior input of the queries); undefined: gathered here when needed.
+    /// scale: output_scale(query_points, latents.norm) when already known ([N, 3], or [3] for the
+    /// flat prior); read only with prior_inputs, as the queries' prior input; undefined: gathered
+    /// here when needed.
     torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {});
     /// The decoder's input rows: normalize_query_points, then with prior_inputs the prior's features
     /// (prior_features of scale, gathered when undefined).   query_points [N, 9] raw -> [N, 9 (+3)]
