@@ -6,6 +6,7 @@
 //   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]] ...]
 // (or scene files and builtin:NAME, comma-separated, in place of the seed range)
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
+// PRIOR_ABLATION_REF_DEPTH=D traces the reference with max_depth D (E⁺ from bounces 1 … D).
 // With PRIOR_ABLATION_PNG=DIR set, each view is also written as DIR/seed-N.png: reference | each
 // setting, tone mapped by the reference (eval/metrics.h) and enlarged 3×.
 #include <chrono>
@@ -111,7 +112,10 @@ int main(int argc, char **argv) {
             const EmbreeAccel accel(scene);
             // The eval's camera and reference tracer (eval/experiment.cpp: view 0 of 1, role 1).
             const Camera cam = eval_view_camera(scene, 0, 1, size, size);
-            const PathTracerConfig cfg = eval_tracer_config(0, EvalRole::reference);
+            PathTracerConfig cfg = eval_tracer_config(0, EvalRole::reference);
+            // PRIOR_ABLATION_REF_DEPTH=D: the reference's E⁺ with at most D scattering events (its
+            // bounces 1 … D, against the prior's D bounces); the cache key includes the depth.
+            if (const char *depth = std::getenv("PRIOR_ABLATION_REF_DEPTH")) cfg.max_depth = std::atoi(depth);
             const PathTracer pt(accel, cfg);
             const GBuffer gb = render_gbuffer(accel, cam);
             if (gb.n_hits() == 0) continue;

@@ -1,18 +1,22 @@
-// enclosure.cpp: back-face voting over a fixed stratified set of hemisphere directions.
+// enclosure.cpp: back-face voting over a fixed stratified set of hemisphere directions, the
+// reachable air's verdict, and the filter that turns a sample to its other side.
 #include "ltm/render/enclosure.h"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "ltm/core/sampling.h"
 
 namespace ltm {
 
 bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest &cfg) {
+    const bool air = cfg.air && cfg.air->has_seeds();
+    if (air && !cfg.air->reaches(p, n)) return true;
     const Frame frame(n);
     const int nu = std::max(1, int(std::sqrt(float(cfg.n_rays) / 2.f)));
     const int nv = std::max(1, cfg.n_rays / nu);
-    int back = 0, total = 0;
+    int back = 0, total = 0, misses = 0;
     for (int i = 0; i < nu; ++i)
         for (int j = 0; j < nv; ++j) {
             const Vec2f u{(float(i) + 0.5f) / float(nu), (float(j) + 0.5f) / float(nv)};
@@ -20,9 +24,19 @@ bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest
             const Vec3f o = offset_ray_origin(p, n, d, cfg.offset_length);
             const auto hit = accel.intersect({o, d});
             ++total;
-            if (!hit) continue;
-            if (dot(hit->n, d) > 0.f || hit->t < cfg.buried_distance) {
+            if (!hit) {
+                ++misses;
+                continue;
+            }
+            if (hit->t < cfg.buried_distance) {
                 ++back;
+                continue;
+            }
+            // A back face encloses only if the ray reached it through unreached air (inside a
+            // solid), not through the room (a wall wound outward).
+            auto encloses = [&](float t) { return !air || !cfg.air->approach_reached(o + d * t, d); };
+            if (dot(hit->n, d) > 0.f) {
+                back += encloses(hit->t);
                 continue;
             }
             // A front face counts as a back face when a back face coincides with it (within the
@@ -33,17 +47,27 @@ bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest
             const float window = length(o - p);
             for (const Hit &h : accel.hits({o, d, 0.f, hit->t + window}))
                 if (dot(h.n, d) > 0.f) {
-                    ++back;
+                    back += encloses(h.t);
                     break;
                 }
         }
+    if (cfg.air && misses == total) return true;   // faces nothing: no light reaches it
     return float(back) >= cfg.back_face_fraction * float(total);
 }
 
 SampleFilter enclosed_filter(const EmbreeAccel &accel, const EnclosureTest &config) {
     EnclosureTest cfg = config;
     cfg.offset_length = std::max(max_component(accel.scene().bounds().extent()), 1e-30f);
-    return [&accel, cfg](const SurfaceSample &s) { return is_enclosed(accel, s.p, s.n, cfg); };
+    auto air = std::make_shared<const ReachableAir>(accel.scene());
+    cfg.air = air.get();
+    return [&accel, cfg, air](SurfaceSample &s) {
+        if (!is_enclosed(accel, s.p, s.n, cfg)) return false;
+        // The winding side is enclosed: real files wind faces either way (a room's walls outward).
+        if (is_enclosed(accel, s.p, -s.n, cfg)) return true;
+        s.n = -s.n;
+        s.emission = Vec3f(0.f);   // emitters are one-sided
+        return false;
+    };
 }
 
 }  // namespace ltm

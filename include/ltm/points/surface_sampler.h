@@ -23,8 +23,9 @@ enum class SampleStream : uint64_t { scene_points = 1, query_points = 2, view_po
 /// Largest point count one call accepts (memory guard: 48 bytes per sample).
 inline constexpr int64_t k_max_sample_count = 50'000'000;
 
-/// Returns true for samples to drop (e.g. enclosed surfaces, see render/enclosure.h).
-using SampleFilter = std::function<bool(const SurfaceSample &)>;
+/// Returns true for samples to drop (e.g. enclosed surfaces, see render/enclosure.h). It may turn a
+/// sample it keeps to the other side of its surface (n → −n; see enclosed_filter()).
+using SampleFilter = std::function<bool(SurfaceSample &)>;
 
 /// What a filtered draw saw: the filter's pass fraction over every candidate drawn estimates the
 /// share of the surface area that passes (the area the scene points represent).

@@ -1,10 +1,15 @@
 // enclosure.h: detects surface points that lie inside closed solids (the floor under a carpet
 // or under a box-shaped piece of furniture): light can never reach them, so `ltm sample
-// --exclude-enclosed` drops them.
+// --exclude-enclosed` drops them. With the scene's reachable air (render/reachable_air.h) the test
+// no longer trusts the faces' winding: a side counts as enclosed when the air in front of it is not
+// air that light or a camera is in, when it faces nothing at all, or when its rays end on back faces
+// reached through unreached air (inside a solid) or on anything within the buried distance; and the
+// sampler's filter then takes a point's other side when its winding side is enclosed.
 #pragma once
 
 #include "ltm/points/surface_sampler.h"
 #include "ltm/render/embree_accel.h"
+#include "ltm/render/reachable_air.h"
 
 namespace ltm {
 
@@ -20,6 +25,12 @@ struct EnclosureTest {
     /// only edge-on, so it carries ~no light, but as a node of the transport prior its cluster's
     /// visibility lets it trade light with the room. Scene units. 0 = back faces only.
     float buried_distance = 0.f;
+    /// The scene's reachable air, or null: then a back face always votes closed and a side that
+    /// faces nothing is not enclosed (the test for consistently wound scenes). With it (and seeds),
+    /// a back face votes closed only if the air the ray came through is not reached (the wall of a
+    /// room wound outward does not enclose the room), and a side with no reached air in front of
+    /// it, or whose every ray escapes, is enclosed.
+    const ReachableAir *air = nullptr;
 };
 
 /// True if at least `back_face_fraction` of the rays leaving (p, n) first hit the back side of a
@@ -31,8 +42,10 @@ struct EnclosureTest {
 /// space behind the floor, which has no surfaces, so it is not detected.
 bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest &cfg = {});
 
-/// A SampleFilter for sample_surface() that rejects enclosed samples (cfg.offset_length is replaced
-/// by the largest extent of the scene's bounding box).
+/// A SampleFilter for sample_surface(): keeps a sample whose winding side is not enclosed; else its
+/// other side (n → −n, no emission: emitters are one-sided) if that is not enclosed; else drops it.
+/// It builds the scene's ReachableAir (cfg.air is replaced) and replaces cfg.offset_length by the
+/// largest extent of the scene's bounding box.
 SampleFilter enclosed_filter(const EmbreeAccel &accel, const EnclosureTest &cfg = {});
 
 }  // namespace ltm
