@@ -93,6 +93,7 @@ struct NeuralRenderArgs {
     std::string direct_estimator = "auto";   ///< mis | ratio | auto (infer/neural_renderer.h)
     int glossy_samples = 0;    ///< GGX samples per conductor pixel (0: automatic)
     std::string glossy = "auto";   ///< conductor shading: auto | trace | head | diffuse (GlossyShading)
+    int scene_points = 0;          ///< 0: the model's own M (set_scene_points otherwise)
 };
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
 

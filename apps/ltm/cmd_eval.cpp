@@ -26,12 +26,15 @@ struct EvalArgs {
     EvalOptions opt;
     PhysicsCheckOptions physics;
     bool no_grids = false, run_physics = false, physics_only = false, radiance = false;
-    int direct_spp = 16, glossy_samples = 0;
+    int direct_spp = 16, glossy_samples = 0, scene_points = 0;
 };
 
 void declare(CLI::App &sub, EvalArgs &a) {
     sub.add_option("--model", a.model, "Weights (.safetensors from ltm export)")->required();
     sub.add_option("--ablation", a.ablations, "More models to compare: NAME=weights.safetensors (repeatable)");
+    sub.add_option("--scene-points", a.scene_points,
+                   "Scene points every model samples (default: each model's own, 8192 for the shipped one)")
+        ->check(CLI::NonNegativeNumber);
     sub.add_option("--scenes", a.scenes, "Generator seed ranges A:B and/or scene files (keep seeds disjoint from training)")
         ->required();
     sub.add_option("--gen-config", a.gen_config, "Generator config for seed ranges (default: built-in)");
@@ -84,6 +87,8 @@ void run(const EvalArgs &a, const CommonOptions &common) {
         if (eq == std::string::npos || eq == 0) LTM_THROW("--ablation ", spec, ": expected NAME=weights.safetensors");
         models.push_back({spec.substr(0, eq), spec.substr(eq + 1), load_model(spec.substr(eq + 1)).model});
     }
+    if (a.scene_points > 0)
+        for (auto &m : models) set_scene_points(m.model, a.scene_points);
     // Scenes: seed ranges are generated in memory, files are loaded.
     const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
     std::vector<EvalScene> scenes;

@@ -12,6 +12,7 @@ namespace ltm::cli {
 
 void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     LoadedModel m = load_model(a.model);
+    if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
     if (glossy == GlossyShading::head && !m.model->directional)
         LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");

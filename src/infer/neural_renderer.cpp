@@ -303,4 +303,13 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     return r;
 }
 
+void set_scene_points(LtmModel &model, int64_t n) {
+    if (n < k_min_scene_points)
+        LTM_THROW("--scene-points ", n, ": below the minimum of ", k_min_scene_points, " (the decoder's neighbourhoods need more points)");
+    if (n > k_max_scene_points)
+        LTM_THROW("--scene-points ", n, ": above the limit of ", k_max_scene_points, " (the transport prior's dense solve holds ~4·M² bytes: ",
+                  double(n) * double(n) * 4.0 / double(1 << 30), " GiB here)");
+    model->cfg.scene_points = int(n);
+}
+
 }  // namespace ltm

@@ -51,6 +51,8 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .field("freeze", &C::freeze, "\"encoder\": embedding and PTv3 keep their weights (note 5)", {}, {"none", "encoder"})
             .omit_default()
             .field("bins_per_query", &C::bins_per_query, "head \"directional\": directions per query point; batch_queries counts pairs", at_least(1))
+            .omit_default()
+            .field("level_cap", &C::level_cap, "level-l2: a point's weight min(level_cap, P/L) (note 2)", at_least(1))
             .omit_default();
     return f;
 }
@@ -273,23 +275,23 @@ std::string Trainer::fingerprint() const {
 torch::Tensor Trainer::loss(const torch::Tensor &z, const torch::Tensor &target, const torch::Tensor &scale) const {
     const auto y = normalized_target(target, scale);
     if (m_cfg.loss == "log-relative-l2") return relative_l2_log_loss(z, y, m_cfg.loss_eps);
-    if (m_cfg.loss == "level-l2") return level_l2_loss(torch::expm1(z), y, scale);
+    if (m_cfg.loss == "level-l2") return level_l2_loss(torch::expm1(z), y, scale, m_cfg.level_cap);
     return relative_l2_loss(torch::expm1(z), y, m_cfg.loss_eps);
 }
 
 torch::Tensor Trainer::directional_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale) const {
     // level-l2 weighs each pair by its absolute light up to the batch's level (what a rendered
     // glossy reflection shows); relative-l2 by its own prediction.
-    if (m_cfg.loss == "level-l2") return level_l2_loss(pred, target, scale);
+    if (m_cfg.loss == "level-l2") return level_l2_loss(pred, target, scale, m_cfg.level_cap);
     return relative_l2_loss(pred, target, m_cfg.loss_eps);
 }
 
-torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale) {
+torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale, double cap) {
     TORCH_CHECK(pred.sizes() == target.sizes() && pred.dim() == 2 && pred.size(1) == 3, "loss: prediction ", pred.sizes(),
                 " and target ", target.sizes(), " must be the same [N, 3]");
     const auto s = scale.detach().expand_as(pred);
     const auto level = s.mean(0, /*keepdim=*/true).clamp_min(1e-30);
-    const auto w = (s / level).clamp_max(1.0);
+    const auto w = (s / level).clamp_max(cap);
     return ((pred - target) * w).pow(2).mean();
 }
 

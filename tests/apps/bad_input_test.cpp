@@ -1,5 +1,6 @@
 // bad_input_test.cpp: every bad input gives "ltm <cmd>: error: <file>...: <what>", exit 1, and
 // no output file.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -203,5 +204,25 @@ TEST(BadInput, DirectionalHeadMissingIsOneLine) {
                  "--method guided needs --model");
     expect_error(dir, n, {"eval-directional", "--model", weights, "--data", dir.path("none"), "--out", dir.path("e")},
                  "eval-directional", "has no directional head");
+}
+
+// --scene-points outside [256, 32 768]: one line naming the bound, before the scene is sampled, and no
+// output. The upper bound is the dense prior's memory (~4·M² bytes).
+TEST(BadInput, ScenePointsOutOfBoundsIsOneLineNamingTheLimit) {
+    test::TempDir dir;
+    const size_t n = dir.count();
+    for (const auto &[count, bound] : {std::pair<std::string, std::string>{"100000", "limit of 32768"}, {"100", "minimum of 256"}}) {
+        const Result r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", test::source_path("models/ltm-cpu.safetensors"),
+                              "--scene-points", count, "--width", "16", "--height", "16", "-o", dir.path("r")});
+        EXPECT_EQ(r.code, 1) << r.err;
+        EXPECT_NE(r.err.find("ltm render: error: --scene-points " + count + ": "), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(bound), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    const Result e = run({"eval", "--model", test::source_path("models/ltm-cpu.safetensors"), "--scenes", "builtin:cornell-box",
+                          "--scene-points", "40000", "--no-grids", "-o", dir.path("e")});
+    EXPECT_EQ(e.code, 1) << e.err;
+    EXPECT_NE(e.err.find("limit of 32768"), std::string::npos) << e.err;
+    EXPECT_EQ(dir.count(), n) << "no partial output";
 }
 #endif

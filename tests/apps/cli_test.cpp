@@ -203,6 +203,11 @@ TEST(Cli, NeuralRenderAndEvalSmoke) {
     const Json t = parse_json_file(dir.path("n.timings.json"));
     for (const char *k : {"encode_s", "knn_s", "decode_s", "direct_s", "total_s"}) EXPECT_TRUE(t["timings"].contains(k)) << k;
     EXPECT_EQ(t["scene_points"].get<int>(), 1024);
+    // --scene-points overrides the model's own M (the tiny model's 1 024).
+    r = run({"render", scene, "--method", "neural", "--model", weights, "--width", "32", "--height", "24", "--direct-spp", "2",
+             "--scene-points", "2048", "-o", dir.path("n2"), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(parse_json_file(dir.path("n2.timings.json"))["scene_points"].get<int>(), 2048);
     r = run({"eval", "--model", weights, "--ablation", "again=" + weights, "--scenes", scene, "--width", "24", "--height",
              "24", "--ref-spp", "8", "--baseline-spp", "2", "--views", "2", "-o", dir.path("ev"), "-q"});
     ASSERT_EQ(r.code, 0) << r.err;

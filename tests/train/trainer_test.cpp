@@ -228,6 +228,8 @@ TEST(Trainer, LevelL2WeightsDarkPointsAbsolutelyAndIsMinimisedByTheMean) {
     // Invariant to a common scale of the prior; a flat prior ([3]) weights every point 1.
     EXPECT_NEAR(level_l2_loss(torch::ones({2, 3}), target, scale * 1e6).item<double>(), 0.625, 1e-6);
     EXPECT_NEAR(level_l2_loss(torch::ones({2, 3}), target, torch::tensor({2.f, 2.f, 2.f})).item<double>(), 1.0, 1e-7);
+    // level_cap 2: the bright point weighs its 3/2 (absolutely, up to twice the level), the dim one 1/2.
+    EXPECT_NEAR(level_l2_loss(torch::ones({2, 3}), target, scale, 2.0).item<double>(), (2.25 + 0.25) / 2.0, 1e-6);
     // Channels are independent: a prior bright in red only does not reweight green.
     const auto red = torch::tensor({3.f, 1.f, 1.f, 1.f, 1.f, 1.f}).view({2, 3});
     const auto g = torch::zeros({2, 3}).index_put_({torch::indexing::Slice(), 1}, 1.f);

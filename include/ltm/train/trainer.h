@@ -40,6 +40,7 @@ struct TrainConfig {
     /// below the mean are weighted like absolute errors, bright ones relatively); log-relative-l2
     /// adds ε to z (v0.3 shipped 0.1).
     float loss_eps = 1.0f;
+    float level_cap = 1.0f;   ///< level-l2: weight min(level_cap, prior / level) (level_l2_loss)
     float val_fraction = 0.1f;    ///< highest-seed records held out for validation (seeds disjoint)
     int val_scenes = 8;           ///< at most this many held-out scenes are evaluated
     int val_queries = 8192;       ///< queries per validation scene, spread evenly over its records' rows
@@ -90,10 +91,12 @@ struct TrainStepLog {
 /// prior of the scene's queries in the batch: below the level errors count absolutely (a dark
 /// corner's ratio error matters as little as its light does — the relative loss weights it by
 /// 1/prior², the camera does not), above it relatively (the metric clamps bright pixels). In the
-/// model's ratio frame:  mean over points and channels of ((r̂ − r) · min(1, prior / L))².
+/// model's ratio frame:  mean over points and channels of ((r̂ − r) · min(cap, prior / L))².
+/// cap > 1 counts errors absolutely up to cap × the level (the metric clamps at its 99th
+/// percentile, a few L): cap 1 is the loss as v0.7–v0.12 trained it.
 ///   pred, target [N, 3] (ratios to the prior), scale [3] or [N, 3] (output_scale) -> scalar
 /// Unbiased with noisy targets (a weighted L2); invariant to a common scale of the prior.
-torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale);
+torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale, double cap = 1.0);
 
 class Trainer {
 public:
