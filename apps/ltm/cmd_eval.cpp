@@ -143,6 +143,7 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     j["ablations"] = a.ablations;
     j["scenes"] = a.scenes;
     j["threads"] = common.threads;
+    j["scene_points"] = models.front().model->cfg.scene_points;   // the models' M (--scene-points or their own)
     write_file_atomic(a.output + "/report.json", j.dump(2) + "\n");
     const std::string table = r.table_markdown();
     write_file_atomic(a.output + "/table.md", table);

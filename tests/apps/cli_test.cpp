@@ -213,6 +213,7 @@ TEST(Cli, NeuralRenderAndEvalSmoke) {
     ASSERT_EQ(r.code, 0) << r.err;
     const Json rep = parse_json_file(dir.path("ev/report.json"));
     EXPECT_EQ(rep["views"].size(), 2u);
+    EXPECT_EQ(rep["scene_points"].get<int>(), 1024);
     for (const char *m : {"model:ours", "model:again", "model-prior:ours", "pt2", "pt-equal-time"}) EXPECT_TRUE(rep["summary"].contains(m)) << m;
     // The tiny random model's network is active: its row is not its prior's.
     EXPECT_NE(rep["summary"]["model:ours"]["mse"]["mean"], rep["summary"]["model-prior:ours"]["mse"]["mean"]);
