@@ -6,7 +6,7 @@
 //   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]] ...]
 // (or scene files and builtin:NAME, comma-separated, in place of the seed range)
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
-// PRIOR_ABLATION_REF_DEPTH=D traces the reference with max_depth D (E⁺ from bounces 1 … D).
+// PRIOR_ABLATION_M=M samples M scene points (default 8 192), PRIOR_ABLATION_POINT_SEED=S with seed S. PRIOR_ABLATION_REF_DEPTH=D traces the reference with max_depth D (E⁺ from bounces 1 … D).
 // With PRIOR_ABLATION_PNG=DIR set, each view is also written as DIR/seed-N.png: reference | each
 // setting, tone mapped by the reference (eval/metrics.h) and enlarged 3×.
 #include <chrono>
@@ -128,7 +128,11 @@ int main(int argc, char **argv) {
             const double flat_mse = compare_images(flat, ref).mse;
             // PRIOR_ABLATION_BURIED=x: scene points buried within x nominal spacings count as enclosed.
             const char *buried = std::getenv("PRIOR_ABLATION_BURIED");
-            const ScenePoints sp = sample_scene_points(accel, 8192, 0, true, buried ? std::stof(buried) : k_buried_spacings);
+            // PRIOR_ABLATION_M=M: M scene points instead of the shipped 8 192.
+            const int64_t m = std::getenv("PRIOR_ABLATION_M") ? std::atoll(std::getenv("PRIOR_ABLATION_M")) : 8192;
+            // PRIOR_ABLATION_POINT_SEED=S: the scene points' sampling seed (default 0, as `ltm eval`).
+            const uint64_t point_seed = std::getenv("PRIOR_ABLATION_POINT_SEED") ? std::stoull(std::getenv("PRIOR_ABLATION_POINT_SEED")) : 0;
+            const ScenePoints sp = sample_scene_points(accel, m, point_seed, true, buried ? std::stof(buried) : k_buried_spacings);
             const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
             std::string per_setting;   // this view's MSE per setting, for the log
             std::vector<Image> strip{ref};   // PRIOR_ABLATION_PNG=dir: reference | each setting, per view
