@@ -32,11 +32,12 @@
 #include "ltm/render/scene_points.h"
 #include "ltm/scene/scene_loader.h"
 #include "ltm/transport/transport_prior.h"
+#include "scene_list.h"
 
 using namespace ltm;
 
 namespace {
-double lum(Vec3f c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+double lum(Vec3f c) { return double(luminance(c)); }
 
 double mean_lum(const std::vector<Vec3f> &v) {
     double s = 0;
@@ -58,13 +59,7 @@ int main(int argc, char **argv) {
     }
     configure_process();
     set_log_level(LogLevel::quiet);
-    std::vector<std::string> paths;
-    for (size_t b = 0; b <= std::string(argv[1]).size();) {
-        const std::string s = argv[1];
-        const size_t e = std::min(s.find(',', b), s.size());
-        paths.push_back(s.substr(b, e - b));
-        b = e + 1;
-    }
+    const std::vector<std::string> paths = bench::split_commas(argv[1]);
     const std::string cache = argv[2];
     const int size = argc > 3 ? std::atoi(argv[3]) : 128, ref_spp = argc > 4 ? std::atoi(argv[4]) : 1024;
     const int direct_spp = argc > 5 ? std::atoi(argv[5]) : 64;

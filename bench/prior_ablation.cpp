@@ -30,6 +30,7 @@
 #include "ltm/scene/scene_loader.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/scene_points.h"
+#include "scene_list.h"
 
 using namespace ltm;
 
@@ -67,12 +68,7 @@ int main(int argc, char **argv) {
         const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
         for (uint64_t seed = lo; seed < hi; ++seed) scene_list.emplace_back("seed-" + std::to_string(seed), "");
     } else {
-        std::vector<std::string> paths;
-        for (size_t b = 0; b <= range.size();) {
-            const size_t e = std::min(range.find(',', b), range.size());
-            paths.push_back(range.substr(b, e - b));
-            b = e + 1;
-        }
+        const std::vector<std::string> paths = bench::split_commas(range);
         const std::vector<std::string> labels = scene_labels(paths);   // as ltm eval names them
         for (size_t i = 0; i < paths.size(); ++i) scene_list.emplace_back(labels[i], paths[i]);
     }
@@ -129,10 +125,10 @@ int main(int argc, char **argv) {
             // PRIOR_ABLATION_BURIED=x: scene points buried within x nominal spacings count as enclosed.
             const char *buried = std::getenv("PRIOR_ABLATION_BURIED");
             // PRIOR_ABLATION_M=M: M scene points instead of the shipped 8 192.
-            const int64_t m = std::getenv("PRIOR_ABLATION_M") ? std::atoll(std::getenv("PRIOR_ABLATION_M")) : 8192;
+            const int64_t n_points = std::getenv("PRIOR_ABLATION_M") ? std::atoll(std::getenv("PRIOR_ABLATION_M")) : 8192;
             // PRIOR_ABLATION_POINT_SEED=S: the scene points' sampling seed (default 0, as `ltm eval`).
             const uint64_t point_seed = std::getenv("PRIOR_ABLATION_POINT_SEED") ? std::stoull(std::getenv("PRIOR_ABLATION_POINT_SEED")) : 0;
-            const ScenePoints sp = sample_scene_points(accel, m, point_seed, true, buried ? std::stof(buried) : k_buried_spacings);
+            const ScenePoints sp = sample_scene_points(accel, n_points, point_seed, true, buried ? std::stof(buried) : k_buried_spacings);
             const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
             std::string per_setting;   // this view's MSE per setting, for the log
             std::vector<Image> strip{ref};   // PRIOR_ABLATION_PNG=dir: reference | each setting, per view

@@ -41,7 +41,7 @@ bool under_box(Vec3f p) { return p.y < 1e-4f && p.x > 3.2f && p.x < 4.0f && p.z 
 
 double mean_luminance(const std::vector<Vec3f> &v) {
     double s = 0;
-    for (const Vec3f &c : v) s += 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+    for (const Vec3f &c : v) s += double(luminance(c));
     return s / double(v.size());
 }
 }  // namespace

@@ -26,10 +26,10 @@ struct EnclosureTest {
     /// visibility lets it trade light with the room. Scene units. 0 = back faces only.
     float buried_distance = 0.f;
     /// The scene's reachable air, or null: then a back face always votes closed and a side that
-    /// faces nothing is not enclosed (the test for consistently wound scenes). With it (and seeds),
-    /// a back face votes closed only if the air the ray came through is not reached (the wall of a
-    /// room wound outward does not enclose the room), and a side with no reached air in front of
-    /// it, or whose every ray escapes, is enclosed.
+    /// faces nothing is not enclosed (the test for consistently wound scenes). With it, a side whose
+    /// every ray escapes is enclosed; with it and seeds, also a side with unreached air in front of
+    /// it, and a back face votes closed only if the air the ray came through is not reached (the
+    /// wall of a room wound outward does not enclose the room).
     const ReachableAir *air = nullptr;
 };
 
