@@ -15,7 +15,9 @@
 #include "ltm/eval/field_metrics.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
+#include "ltm/render/embree_accel.h"
 #include "ltm/render/hemisphere_bins.h"
+#include "ltm/render/scene_points.h"
 #include "ltm/train/augment.h"
 
 namespace fs = std::filesystem;
@@ -53,6 +55,8 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .field("bins_per_query", &C::bins_per_query, "head \"directional\": directions per query point; batch_queries counts pairs", at_least(1))
             .omit_default()
             .field("level_cap", &C::level_cap, "level-l2: a point's weight min(level_cap, P/L) (note 2)", at_least(1))
+            .omit_default()
+            .field("point_sets", &C::point_sets, "scene point sets per training house, one drawn per step (note 6)", between(1, 64))
             .omit_default();
     return f;
 }
@@ -139,27 +143,46 @@ void Trainer::init_weights(const std::string &path) {
     load_state(m_model, tensors, path);   // copy_ moves them to the training device
 }
 
-Trainer::CachedScene &Trainer::scene(size_t index) {
+Trainer::CachedScene &Trainer::scene(size_t index, int set) {
     const std::string &path = index < m_train_paths.size() ? m_train_paths[index] : m_val_paths[index - m_train_paths.size()];
-    auto &slot = m_cache[path];
+    auto &slot = m_cache[{path, set}];
     if (!slot) {
         auto c = std::make_unique<CachedScene>();
-        c->record = read_record(path);
-        const auto &r = c->record;
-        if (int(r.scene_points.size()) != m_model_cfg.scene_points)
-            LTM_THROW(path, ": ", r.scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points);
-        const auto sp = point_tensor(r.scene_points);
+        PointSet points;
+        if (set == 0) {
+            auto r = std::make_shared<SceneRecord>(read_record(path));
+            if (int(r->scene_points.size()) != m_model_cfg.scene_points)
+                LTM_THROW(path, ": ", r->scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points);
+            c->query_points = point_tensor(r->query_points).to(m_device);
+            c->target = rows_tensor(r->e_indirect, 3).to(m_device);
+            if (m_cfg.head == "directional") check_directional_record(*r, *m_model_cfg.directional);
+            if (r->emission_scale) {
+                const Vec3f s = *r->emission_scale;
+                c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
+            }
+            points = r->scene_points;
+            c->record = std::move(r);
+        } else {
+            // Another point set of the same house: the record's queries and targets, scene points
+            // sampled afresh from the regenerated scene as the record's were (its preset's rules).
+            const CachedScene &own = scene(index, 0);
+            c->record = own.record;
+            c->query_points = own.query_points, c->target = own.target;
+            const SceneRecord &r = *c->record;
+            const DataPreset p = DataPreset::from_json(r.metadata.at("preset"), path + " (preset)");
+            const Scene house = regenerate_scene(r);
+            const EmbreeAccel accel(house);
+            ScenePoints sampled = sample_scene_points(accel, m_model_cfg.scene_points, hash_keys({r.seed, 0x9015e75ull, uint64_t(set)}),
+                                                      p.exclude_enclosed);
+            const Vec3f s = sampled.emission_scale;
+            if (own.emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
+            points = std::move(sampled.points);
+        }
+        const auto sp = point_tensor(points);
         c->geometry = m_model->scene_geometry(sp);   // FPS + kNN once per scene (CPU), cached
         c->geometry.centers = c->geometry.centers.to(m_device);
         c->geometry.groups = c->geometry.groups.to(m_device);
         c->scene_points = sp.to(m_device);
-        c->query_points = point_tensor(r.query_points).to(m_device);
-        c->target = rows_tensor(r.e_indirect, 3).to(m_device);
-        if (m_cfg.head == "directional") check_directional_record(r, *m_model_cfg.directional);
-        if (r.emission_scale) {
-            const Vec3f s = *r.emission_scale;
-            c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
-        }
         if (m_cfg.head != "directional") {
             // The directional head's radiance_scale gathers the solved prior itself in the draw's frame.
             torch::NoGradGuard no_grad;
@@ -197,7 +220,9 @@ TrainStepLog Trainer::train_step() {
         std::iota(perm.begin(), perm.end(), size_t(0));
         Pcg32 perm_rng(hash_keys({m_cfg.seed, 0x5ce4e5ull, epoch}));
         for (size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[perm_rng.next_below(uint32_t(i))]);
-        CachedScene &sc = scene(perm[u % n]);
+        // One of the house's point sets per draw (TrainConfig::point_sets; 1: always the record's).
+        const int set = m_cfg.point_sets > 1 ? int(hash_keys({m_cfg.seed, 0x5e75e7ull, u}) % uint64_t(m_cfg.point_sets)) : 0;
+        CachedScene &sc = scene(perm[u % n], set);
         const int64_t nq = sc.query_points.size(0);
         const int64_t share = B / K + (k < B % K ? 1 : 0);
         // One of the 8 horizontal symmetries per scene draw (train/augment.h): targets and cached FPS/kNN stay valid.
@@ -360,7 +385,7 @@ Vec3f bin_direction(Vec3f n, int b, int resolution, float u, float v) {
 }  // namespace
 
 torch::Tensor Trainer::directional_step_loss(CachedScene &sc, uint64_t u, int64_t share, int sym) {
-    const SceneRecord &r = sc.record;
+    const SceneRecord &r = *sc.record;
     const int R = r.bin_resolution, nb = R * R;
     const int64_t nq = int64_t(r.query_points.size());
     // ⌈share / B⌉ query points, B directions each (the last point may get fewer): uniform bin,
@@ -400,7 +425,7 @@ double Trainer::validate_directional() {
     const size_t W = size_t(m_comm->world_size()), r0 = size_t(m_comm->rank());
     for (size_t i = r0; i < m_val_paths.size(); i += W) {
         CachedScene &sc = scene(m_train_paths.size() + i);
-        const SceneRecord &r = sc.record;
+        const SceneRecord &r = *sc.record;
         const int R = r.bin_resolution, nb = R * R;
         const int64_t nq = int64_t(r.query_points.size());
         const bool indirect = m_model_cfg.directional->radiance == "indirect";   // ∫ L⁺ cos = E⁺; ∫ L cos = E_d + E⁺

@@ -95,6 +95,39 @@ TEST(Trainer, ScenesPerStepAverageTheOneSceneDraws) {
     EXPECT_THROW(TrainConfig::from_json(j, "t"), Error);
 }
 
+// point_sets P: a draw uses one of P point sets of its house. With lr = 0 the weights stay put,
+// so the loss of a draw that took an extra set differs from the record-only trainer's on the same
+// draw (same scene, queries and symmetry; other scene points), the others are equal bit for bit;
+// a resume repeats the sequence exactly.
+TEST(Trainer, ExtraPointSetsChangeTheDrawsThatUseThem) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    TrainConfig one = small_train(6);
+    one.lr = 0.f;   // bypasses from_json's check on purpose: AdamW with lr 0 changes nothing
+    TrainConfig many = one;
+    many.point_sets = 3;
+    Trainer a(mc, one, {dataset_dir()}, dir.path("one"));
+    a.run(false);
+    Trainer b(mc, many, {dataset_dir()}, dir.path("many"));
+    b.run(false);
+    int same = 0, differ = 0;
+    for (size_t i = 0; i < 6; ++i) {
+        ASSERT_TRUE(std::isfinite(b.history()[i].loss));
+        (a.history()[i].loss == b.history()[i].loss ? same : differ) += 1;
+    }
+    EXPECT_GT(differ, 0);   // some draws took another point set
+    EXPECT_GT(same, 0);     // and those that took the record's are the one-set trainer's draws
+    Trainer first(mc, many, {dataset_dir()}, dir.path("split"));
+    first.run(false, /*stop_at=*/3);
+    Trainer second(mc, many, {dataset_dir()}, dir.path("split"));
+    second.run(true);
+    for (size_t i = 0; i < 6; ++i)
+        EXPECT_EQ(b.history()[i].loss, i < 3 ? first.history()[i].loss : second.history()[i - 3].loss) << "step " << i;
+    Json j = TrainConfig{}.to_json();
+    j["point_sets"] = 0;
+    EXPECT_THROW(TrainConfig::from_json(j, "t"), Error);
+}
+
 // Validation logs the floors and the physics: the exact model's emission ×4 and unit ×10 errors
 // are float rounding, its metrics are finite, and the flat-oracle ratio is what select_by uses.
 TEST(Trainer, ValidationReportsPhysicsAndTheFlatOracle) {

@@ -41,6 +41,13 @@ struct TrainConfig {
     /// adds ε to z (v0.3 shipped 0.1).
     float loss_eps = 1.0f;
     float level_cap = 1.0f;   ///< level-l2: weight min(level_cap, prior / level) (level_l2_loss)
+    /// Point sets per training house: the record's own and point_sets − 1 more, sampled afresh
+    /// from the regenerated house (seeds derived from the record's); each draw uses one at random.
+    /// The prior's view level varies 5–10 % between point sets of one house (docs/results.md,
+    /// session 19): with one set the network learns that set's error, not the house's. Validation
+    /// uses the record's own set. Costs one scene generation and transport solve per extra set,
+    /// once (cached).
+    int point_sets = 1;
     float val_fraction = 0.1f;    ///< highest-seed records held out for validation (seeds disjoint)
     int val_scenes = 8;           ///< at most this many held-out scenes are evaluated
     int val_queries = 8192;       ///< queries per validation scene, spread evenly over its records' rows
@@ -134,7 +141,8 @@ public:
 
 private:
     struct CachedScene {
-        SceneRecord record;
+        /// Shared by the house's point sets (they differ in scene points only).
+        std::shared_ptr<const SceneRecord> record;
         SceneGeometry geometry;
         torch::Tensor scene_points, query_points, target;   // device tensors
         torch::Tensor emission_scale;                       // [3] S = Φ/A, undefined for older records
@@ -156,7 +164,8 @@ private:
     /// Validation of the directional head (loss, relative MSE, uniform-radiance floor, the
     /// hemisphere integral against the irradiance head); returns the mean loss.
     double validate_directional();
-    CachedScene &scene(size_t index);
+    /// Training or validation scene `index` with point set `set` (0: the record's own; TrainConfig::point_sets).
+    CachedScene &scene(size_t index, int set = 0);
     TrainStepLog train_step();
     bool is_root() const { return m_comm->is_root(); }
     /// Sums the gradients over the ranks; a parameter keeps no gradient only if no rank gave it one.
@@ -178,7 +187,7 @@ private:
     /// The data-parallel group; a group of one (every collective the identity) unless set.
     std::shared_ptr<Communicator> m_comm = std::make_shared<Communicator>(DistSettings{}, "");
     std::vector<std::string> m_train_paths, m_val_paths;
-    std::map<std::string, std::unique_ptr<CachedScene>> m_cache;
+    std::map<std::pair<std::string, int>, std::unique_ptr<CachedScene>> m_cache;   // (record path, point set)
     std::vector<TrainStepLog> m_history;
     int64_t m_step = 0;
     double m_best_val = 1e30;
