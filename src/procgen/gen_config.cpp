@@ -164,6 +164,36 @@ const ConfigFields<GenConfig::Glossy> &GenConfig::Glossy::fields() {
     return f;
 }
 
+const ConfigFields<GenConfig::Fixtures> &GenConfig::Fixtures::fields() {
+    using C = GenConfig::Fixtures;
+    static const ConfigFields<C> f =
+        ConfigFields<C>()
+            .field("p_windows", &C::p_windows, "chance that a room (not a hallway) has windows on outside walls (0 = none)", between(0, 1))
+            .field("windows_per_room", &C::windows_per_room, "windows tried in such a room", between(1, 16))
+            .field("window_width", &C::window_width, "window width along the wall (m)", between(0.1, 10))
+            .field("window_sill", &C::window_sill, "sill height (m)", between(0, 10))
+            .field("window_top", &C::window_top, "head height (m), kept 0.1 m below the ceiling", between(0.2, 20))
+            .field("window_depth", &C::window_depth, "opening depth beyond the inner wall face: the outside wall's thickness (m)", between(0.01, 2))
+            .field("p_window_sky", &C::p_window_sky, "chance that a window's outer end is a sky emitter (else open onto nothing)", between(0, 1))
+            .field("sky_temperature", &C::sky_temperature, "sky colour temperature (K)", between(1000, 40000))
+            .field("sky_power", &C::sky_power, "a window's Φ in units of its room's mean ceiling-light power (power_density's mid-range × floor area)", between(0.001, 100))
+            .field("p_curtains", &C::p_curtains, "chance that a window gets pleated curtains at its sides", between(0, 1))
+            .field("p_recessed", &C::p_recessed, "chance that a ceiling light sits in a recess (0 = none)", between(0, 1))
+            .field("recess_depth", &C::recess_depth, "recess depth above the ceiling (m)", between(0.005, 2))
+            .field("recess_trim", &C::recess_trim, "recess margin around its light (m)", between(0, 1))
+            .field("p_lamp_lit", &C::p_lamp_lit, "chance that a floor lamp is lit: open shade with a bulb inside (0 = none)", between(0, 1))
+            .field("p_table_lamp", &C::p_table_lamp, "chance of a lit table lamp on each nightstand, desk, cabinet or table (0 = none)", between(0, 1))
+            .field("lamp_power", &C::lamp_power, "a lamp bulb's Φ (luminance-weighted W)", between(0.01, 1e5))
+            .field("lamp_temperature", &C::lamp_temperature, "lamp colour temperature (K)", between(1000, 40000))
+            .field("p_sconces", &C::p_sconces, "chance that a room has wall sconces lighting up the wall (0 = none)", between(0, 1))
+            .field("sconces_per_room", &C::sconces_per_room, "sconces tried in such a room", between(1, 16))
+            .field("sconce_power", &C::sconce_power, "a sconce's Φ (luminance-weighted W)", between(0.01, 1e5))
+            .field("p_strip", &C::p_strip, "chance that a room has a light strip along a wall under the ceiling (0 = none)", between(0, 1))
+            .field("strip_power", &C::strip_power, "a strip's Φ per metre (luminance-weighted W/m)", between(0.01, 1e5))
+            .field("p_ceiling_off", &C::p_ceiling_off, "chance that a room lit by lamps, sconces, strips or a sky has its ceiling lights off", between(0, 1));
+    return f;
+}
+
 const ConfigFields<GenConfig::CameraCfg> &GenConfig::CameraCfg::fields() {
     using C = GenConfig::CameraCfg;
     static const ConfigFields<C> f =
@@ -228,6 +258,10 @@ GenConfig GenConfig::from_json(const Json &j, const std::string &where) {
     section("lights", c.lights, nullptr);
     section("camera", c.camera, nullptr);
     section("glossy", c.glossy, nullptr);
+    section("fixtures", c.fixtures, [](JsonObject &o, Fixtures &x) {
+        if (x.window_sill.y >= x.window_top.x)
+            LTM_THROW(o.where("window_top"), ": every sill must be below every head (window_sill max < window_top min)");
+    });
     root.finish();
 
     // Cross-field checks: a door with its corner margins must fit on the shortest wall.
@@ -262,6 +296,7 @@ OrderedJson GenConfig::to_json() const {
     j["lights"] = Lights::fields().write(lights);
     j["camera"] = CameraCfg::fields().write(camera);
     j["glossy"] = Glossy::fields().write(glossy);
+    j["fixtures"] = Fixtures::fields().write(fixtures);
     return j;
 }
 

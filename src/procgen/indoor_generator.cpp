@@ -8,6 +8,7 @@
 
 #include "ltm/core/color.h"
 #include "ltm/core/error.h"
+#include "ltm/procgen/fixtures.h"
 #include "ltm/procgen/furniture.h"
 #include "ltm/procgen/room_layout.h"
 #include "ltm/procgen/room_shell.h"
@@ -125,17 +126,6 @@ Camera make_camera(const GeneratedScene &g, const std::vector<std::vector<Rect2f
 // ---------------------------------------------------------------------------------------------
 // Assembly
 
-int add_mesh(Scene &scene, TriangleMesh mesh, Texture albedo) {
-    Material m;
-    m.name = mesh.name;
-    m.albedo = albedo;
-    mesh.material = scene.add_material(std::move(m));
-    for (Vec3f &p : mesh.positions) p = quantize(p);
-    for (Vec2f &uv : mesh.uvs) uv = {quantize(uv.x), quantize(uv.y)};
-    scene.meshes.push_back(std::move(mesh));
-    return int(scene.meshes.size()) - 1;
-}
-
 void build_rooms_and_doors(GeneratedScene &g, const FloorPlan &plan) {
     const float ceiling = float(plan.ceiling_mm) / 1000.f;
     for (size_t r = 0; r < plan.rooms.size(); ++r) {
@@ -228,6 +218,8 @@ void place_furniture(GeneratedScene &g, Stages &st, const GenConfig &cfg, uint64
         in.rects = g.rooms[r].rects;
         in.ceiling_height = g.rooms[r].ceiling_height;
         in.keep_out = door_zones;
+        for (const WindowInfo &w : g.windows)   // curtains (GenConfig::Fixtures)
+            if (w.room == int(r)) in.keep_out.insert(in.keep_out.end(), w.curtains.begin(), w.curtains.end());
         for (const Rect2f &l : st.room_lights[r]) in.tall_keep_out.push_back(l.expanded(cfg.lights.tall_clearance));
         if (g.ajar && int(r) == st.light_room) in.max_items = cfg.furniture.ajar_light_room_max_items;
         Pcg32 rng(hash_keys({seed, k_furniture, uint64_t(r)}));
@@ -283,19 +275,19 @@ void maybe_conductor(Scene &scene, const std::vector<int> &meshes, float p, cons
     }
 }
 
-// Meshes and materials: shell, furniture, lights (one material per mesh, named like it).
-void add_meshes(GeneratedScene &g, Stages &st, const FloorPlan &plan, const GenConfig &cfg, uint64_t seed) {
+// Meshes and materials: shell, furniture, lights (one material per mesh, named like it). The
+// shells keep their window panes for the fixtures.
+void add_meshes(GeneratedScene &g, Stages &st, std::vector<RoomShell> &shells, const GenConfig &cfg, uint64_t seed) {
     Scene &scene = g.scene;
     Pcg32 rng_shell(hash_keys({seed, k_shell_mat}));
-    std::vector<RoomShell> shells = build_room_shell(plan);
     for (size_t r = 0; r < g.rooms.size(); ++r) {
         RoomShell &s = shells[r];
         const Texture floor = sample_albedo(SurfaceKind::floor, cfg.textures, rng_shell);
         const Texture ceiling = sample_albedo(SurfaceKind::ceiling, cfg.textures, rng_shell);
         const Texture walls = sample_albedo(SurfaceKind::wall, cfg.textures, rng_shell);
-        g.rooms[r].shell_meshes = {add_mesh(scene, std::move(s.floor), floor),
-                                   add_mesh(scene, std::move(s.ceiling), ceiling),
-                                   add_mesh(scene, std::move(s.walls), walls)};
+        g.rooms[r].shell_meshes = {add_generated_mesh(scene, std::move(s.floor), floor),
+                                   add_generated_mesh(scene, std::move(s.ceiling), ceiling),
+                                   add_generated_mesh(scene, std::move(s.walls), walls)};
         Pcg32 rng_glossy(hash_keys({seed, k_glossy, 0, uint64_t(r)}));
         maybe_conductor(scene, {g.rooms[r].shell_meshes[2]}, cfg.glossy.p_walls, cfg.glossy, rng_glossy);
     }
@@ -308,7 +300,7 @@ void add_meshes(GeneratedScene &g, Stages &st, const FloorPlan &plan, const GenC
             Pcg32 rng(hash_keys({seed, k_item_mat, uint64_t(g.furniture.size())}));
             for (FurniturePart &part : it.model.parts) {
                 part.mesh.name = info.name + "_" + part.slot;
-                const int m = add_mesh(scene, std::move(part.mesh), sample_albedo(part.kind, cfg.textures, rng));
+                const int m = add_generated_mesh(scene, std::move(part.mesh), sample_albedo(part.kind, cfg.textures, rng));
                 info.meshes.push_back(m);
                 for (const Vec3f &p : scene.meshes[size_t(m)].positions) info.bounds.expand(p);
             }
@@ -324,15 +316,7 @@ void add_meshes(GeneratedScene &g, Stages &st, const FloorPlan &plan, const GenC
         TriangleMesh mesh;
         mesh.name = "light" + std::to_string(i);
         add_quad(mesh, li.corners[0], li.corners[1], li.corners[2], li.corners[3]);   // normal -y
-        Material m;
-        m.name = mesh.name;
-        m.albedo = Texture::constant(Vec3f(0.8f));   // the diffuser also reflects
-        m.emission = Texture::constant(li.radiance);
-        mesh.material = scene.add_material(std::move(m));
-        for (Vec3f &p : mesh.positions) p = quantize(p);
-        for (Vec2f &uv : mesh.uvs) uv = {quantize(uv.x), quantize(uv.y)};
-        scene.meshes.push_back(std::move(mesh));
-        li.mesh = int(scene.meshes.size()) - 1;
+        li.mesh = add_generated_mesh(scene, std::move(mesh), Texture::constant(Vec3f(0.8f)), li.radiance);   // the diffuser also reflects
     }
 }
 
@@ -361,16 +345,20 @@ float maybe_brighten(Scene &scene, const GenConfig::Textures &cfg, uint64_t seed
 GeneratedScene generate_indoor(const GenConfig &cfg, uint64_t seed) {
     GeneratedScene g;
     Pcg32 rng_plan(hash_keys({seed, k_plan}));
-    const FloorPlan plan = generate_floor_plan(cfg, rng_plan);
+    FloorPlan plan = generate_floor_plan(cfg, rng_plan);
     g.plan_type = plan.type;
     build_rooms_and_doors(g, plan);
-    // Lights come before furniture so that tall pieces can keep clear of them.
+    // Lights come before furniture so that tall pieces can keep clear of them; windows and
+    // recesses (fixtures, off by default) before furniture so that it keeps off the curtains.
     Stages st;
     place_lights(g, st, cfg, seed);
+    place_openings(g, plan, cfg, seed);
     place_furniture(g, st, cfg, seed);
     place_camera(g, st, cfg, seed);
     g.scene.name = "indoor_" + std::to_string(seed);
-    add_meshes(g, st, plan, cfg, seed);
+    std::vector<RoomShell> shells = build_room_shell(plan);
+    add_meshes(g, st, shells, cfg, seed);
+    add_fixtures(g, shells, cfg, seed);
     const float bright = maybe_brighten(g.scene, cfg.textures, seed);
 
     OrderedJson &md = g.scene.metadata;
@@ -383,6 +371,8 @@ GeneratedScene generate_indoor(const GenConfig &cfg, uint64_t seed) {
     md["light_room"] = st.light_room;
     md["n_lights"] = g.lights.size();
     md["n_furniture"] = g.furniture.size();
+    if (!g.windows.empty()) md["n_windows"] = g.windows.size();
+    if (!g.fixture_lights.empty()) md["n_fixture_lights"] = g.fixture_lights.size();
     if (bright > 0.f) md["bright_lift"] = bright;
     md["config"] = cfg.to_json();
     return g;

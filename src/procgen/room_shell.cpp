@@ -11,10 +11,13 @@ namespace ltm {
 
 namespace {
 
+enum class BoxKind { room, door, window, recess };
+
 struct AirBox {
     int lo[3], hi[3];
     int room;
-    bool door;
+    BoxKind kind;
+    int opening = -1;   // index into FloorPlan::openings
 };
 
 struct MeshWriter {
@@ -77,10 +80,15 @@ std::vector<RoomShell> build_room_shell(const FloorPlan &plan) {
     std::vector<AirBox> boxes;
     for (int r = 0; r < int(plan.rooms.size()); ++r)
         for (const RectMm &q : plan.rooms[size_t(r)].interiors)
-            boxes.push_back({{q.x0, 0, q.z0}, {q.x1, plan.ceiling_mm, q.z1}, r, false});
+            boxes.push_back({{q.x0, 0, q.z0}, {q.x1, plan.ceiling_mm, q.z1}, r, BoxKind::room});
     for (const PlanDoor &d : plan.doors)
         boxes.push_back({{d.opening.x0, 0, d.opening.z0}, {d.opening.x1, d.height_mm, d.opening.z1},
-                         d.room_a, true});
+                         d.room_a, BoxKind::door});
+    for (size_t o = 0; o < plan.openings.size(); ++o) {
+        const PlanOpening &op = plan.openings[o];
+        boxes.push_back({{op.lo[0], op.lo[1], op.lo[2]}, {op.hi[0], op.hi[1], op.hi[2]}, op.room,
+                         op.kind == PlanOpening::Kind::window ? BoxKind::window : BoxKind::recess, int(o)});
+    }
     const std::vector<int> coords[3] = {breakpoints(boxes, 0), breakpoints(boxes, 1), breakpoints(boxes, 2)};
     const int n[3] = {int(coords[0].size()) - 1, int(coords[1].size()) - 1, int(coords[2].size()) - 1};
 
@@ -97,6 +105,7 @@ std::vector<RoomShell> build_room_shell(const FloorPlan &plan) {
         writers[r] = {MeshWriter{&shells[r].floor, {}}, MeshWriter{&shells[r].ceiling, {}},
                       MeshWriter{&shells[r].walls, {}}};
     }
+    std::map<int, MeshWriter> pane_writers;   // window opening -> its pane's writer
     // One quad per grid face between air and solid, facing the air. Quads share the grid's
     // vertices, so the surface is closed and has no T-junctions.
     for (int a = 0; a < 3; ++a) {
@@ -115,9 +124,25 @@ std::vector<RoomShell> build_room_shell(const FloorPlan &plan) {
                     const bool positive = above >= 0;   // normal +e_a into the air cell above
                     const AirBox &box = boxes[size_t(positive ? above : below)];
                     int surface = 2;   // walls
-                    if (a == 1 && positive) surface = 0;                  // floor (door threshold too)
-                    else if (a == 1 && !box.door) surface = 1;            // ceiling; lintels are walls
-                    MeshWriter &w = writers[size_t(box.room)][size_t(surface)];
+                    const bool floor_box = box.kind == BoxKind::room || box.kind == BoxKind::door;
+                    if (a == 1 && positive && floor_box) surface = 0;     // floor (door threshold too); sills are walls
+                    else if (a == 1 && !positive && (box.kind == BoxKind::room || box.kind == BoxKind::recess))
+                        surface = 1;                                      // ceiling; lintels and window heads are walls
+                    MeshWriter *wp = &writers[size_t(box.room)][size_t(surface)];
+                    if (box.kind == BoxKind::window) {
+                        const PlanOpening &op = plan.openings[size_t(box.opening)];
+                        const int end = op.outward_sign > 0 ? op.hi[a] : op.lo[a];
+                        if (a == op.outward_axis && coords[a][size_t(i)] == end) {   // the pane
+                            auto it = pane_writers.find(box.opening);
+                            if (it == pane_writers.end()) {
+                                TriangleMesh &pane = shells[size_t(box.room)].panes[box.opening];
+                                pane.name = "room" + std::to_string(box.room) + "_window" + std::to_string(box.opening);
+                                it = pane_writers.emplace(box.opening, MeshWriter{&pane, {}}).first;
+                            }
+                            wp = &it->second;
+                        }
+                    }
+                    MeshWriter &w = *wp;
                     auto corner = [&](int du, int dv) {
                         std::array<int, 3> p;
                         p[size_t(a)] = coords[a][size_t(i)];

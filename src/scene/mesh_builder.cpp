@@ -44,7 +44,7 @@ void add_box(TriangleMesh &mesh, Vec3f lo, Vec3f hi) {
     }
 }
 
-void add_cylinder(TriangleMesh &mesh, Vec3f base, float radius, float height, int segments) {
+void add_cylinder(TriangleMesh &mesh, Vec3f base, float radius, float height, int segments, bool caps) {
     LTM_CHECK(radius > 0.f && height > 0.f && segments >= 3);
     const float circumference = 2.f * k_pi * radius;
     auto ring = [&](int i, float y) {
@@ -61,7 +61,7 @@ void add_cylinder(TriangleMesh &mesh, Vec3f base, float radius, float height, in
         mesh.uvs.insert(mesh.uvs.end(), {{u0, 0.f}, {u0, height}, {u1, height}, {u1, 0.f}});
         for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(b + k);
     }
-    for (int cap = 0; cap < 2; ++cap) {   // fans, bottom facing -y, top facing +y
+    for (int cap = 0; caps && cap < 2; ++cap) {   // fans, bottom facing -y, top facing +y
         const float y = cap ? height : 0.f;
         const uint32_t center = uint32_t(mesh.positions.size());
         const Vec3f cc = cap ? top_c : base;

@@ -125,7 +125,7 @@ TEST(GenConfig, DocsTablesAreTheDescriptions) {
                                      G::Walls::fields().markdown_table(), G::Doors::fields().markdown_table(),
                                      G::Furniture::fields().markdown_table(), G::Textures::fields().markdown_table(),
                                      G::Lights::fields().markdown_table(), G::CameraCfg::fields().markdown_table(),
-                                     G::Glossy::fields().markdown_table()})
+                                     G::Glossy::fields().markdown_table(), G::Fixtures::fields().markdown_table()})
         EXPECT_NE(doc.find(table), std::string::npos) << "docs/config.md lacks this table:\n" << table;
 }
 

@@ -54,10 +54,23 @@ struct PlanDoor {
     int height_mm = 0;
 };
 
+/// A hole the fixtures cut into the shell (procgen/fixtures.h), a box of air in millimetres: a
+/// window through an outside wall (the face at its outer end, against solid, is the window's pane)
+/// or a recess above the ceiling that holds a light.
+struct PlanOpening {
+    enum class Kind { window, recess };
+    Kind kind = Kind::window;
+    int room = -1;
+    int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};   ///< (x, y, z) mm
+    int outward_axis = 0;   ///< windows: 0 (x) or 2 (z), the axis pointing out of the room
+    int outward_sign = 1;   ///< +1: the pane is at hi[axis]; -1: at lo[axis]
+};
+
 struct FloorPlan {
     std::string type;     ///< single, l_room, bsp, hallway, l_split
     std::vector<PlanRoom> rooms;
     std::vector<PlanDoor> doors;
+    std::vector<PlanOpening> openings;   ///< empty unless fixtures are on
     int ceiling_mm = 2700;
     int wall_mm = 100;
 };

@@ -152,6 +152,48 @@ struct GenConfig {
         std::vector<std::string> metals{"Ag", "Al", "Au", "Cu", "CuZn"};   ///< F0 from one of these (scene/material.h)
     } glossy;
 
+    /// What real rooms have and the default houses do not (issue #29): windows to the outside
+    /// with sky light behind them or open to the void, recessed ceiling lights, lamps with open
+    /// shades, wall sconces, light strips, curtains. Off by default: with every chance 0 the
+    /// generator draws nothing for them, so every seed's house is byte-identical to one generated
+    /// without this section (held-out sets keep their meaning). Drawn from their own streams
+    /// after the furniture (procgen/fixtures.h).
+    struct Fixtures {
+        /// Keys, limits and docs (core/config_fields.h; the table in docs/config.md).
+        static const ConfigFields<Fixtures> &fields();
+        float p_windows = 0.f;            ///< chance that a room (not a hallway) has windows on outside walls
+        IntRange windows_per_room{1, 3};  ///< windows tried in such a room
+        Vec2f window_width{0.6f, 2.0f};   ///< m, along the wall
+        Vec2f window_sill{0.3f, 1.0f};    ///< sill height above the floor (m)
+        Vec2f window_top{1.9f, 2.5f};     ///< head height (m), kept 0.1 m below the ceiling
+        /// Depth of the opening beyond the room's inner wall face (m): the outside wall's
+        /// thickness, thin (a frame) to deep (a stone wall's reveal).
+        Vec2f window_depth{0.05f, 0.35f};
+        /// Chance that a window's outer end is a sky: an emitter facing the room (daylight behind
+        /// the glass, as pbrt scenes light windows); otherwise it opens onto nothing and light escapes.
+        float p_window_sky = 0.7f;
+        Vec2f sky_temperature{5500.f, 12000.f};   ///< K
+        /// Sky power Φ = π·L·A of a window, in units of its room's mean ceiling-light power
+        /// (the mid-range of lights.power_density × floor area).
+        Vec2f sky_power{0.3f, 3.f};
+        float p_curtains = 0.5f;          ///< chance that a window gets pleated curtains at its sides
+        float p_recessed = 0.f;           ///< chance that a ceiling light sits in a recess
+        Vec2f recess_depth{0.04f, 0.25f}; ///< m above the ceiling
+        Vec2f recess_trim{0.f, 0.1f};     ///< recess margin around the light (m)
+        float p_lamp_lit = 0.f;           ///< chance that a floor lamp is lit: open shade, bulb inside
+        float p_table_lamp = 0.f;         ///< chance of a lit table lamp on a nightstand, desk, cabinet or table
+        Vec2f lamp_power{15.f, 80.f};     ///< Φ of a lamp's bulb (luminance-weighted W)
+        Vec2f lamp_temperature{2200.f, 3300.f};   ///< K
+        float p_sconces = 0.f;            ///< chance that a room has wall sconces (light spilled up the wall)
+        IntRange sconces_per_room{1, 4};
+        Vec2f sconce_power{10.f, 60.f};   ///< Φ per sconce
+        float p_strip = 0.f;              ///< chance that a room has a light strip under its ceiling
+        Vec2f strip_power{10.f, 40.f};    ///< Φ per metre of strip
+        /// Chance that a room lit by lamps, sconces, strips or a sky window has its ceiling lights
+        /// off (evening or daylight). Never leaves a house without an emitter.
+        float p_ceiling_off = 0.f;
+    } fixtures;
+
     /// Strict parse: unknown keys and invalid ranges throw "where: /json/pointer: problem".
     /// Missing keys keep their defaults.
     static GenConfig from_json(const Json &j, const std::string &where);

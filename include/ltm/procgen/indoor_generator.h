@@ -50,13 +50,38 @@ struct LightInfo {
     int mesh = -1;
 };
 
+/// A window through an outside wall (GenConfig::Fixtures).
+struct WindowInfo {
+    int room = -1;
+    int opening = -1;      ///< index into the plan's openings
+    Rect2f hole;           ///< plan rectangle of the opening, from the inner wall face outward
+    float sill = 0.f, top = 0.f;   ///< m
+    Vec3f outward;         ///< unit axis out of the room
+    bool sky = false;      ///< the pane emits (daylight); else the window opens onto nothing
+    Vec3f radiance;        ///< sky radiance (W/m²/sr) when sky
+    float power = 0.f;     ///< π·L·A of the pane (luminance-weighted W)
+    int pane_mesh = -1;    ///< the emitting pane's mesh (sky windows)
+    std::vector<Rect2f> curtains;   ///< plan footprints of its curtain panels (furniture keeps out)
+};
+
+/// An emitter the fixtures add: a lamp's bulb, a sconce or a light strip.
+struct FixtureLightInfo {
+    int room = -1;
+    std::string kind;      ///< "floor_lamp", "table_lamp", "sconce", "strip"
+    Vec3f radiance;        ///< W/m²/sr
+    float power = 0.f;     ///< luminance-weighted W
+    int mesh = -1;
+};
+
 struct GeneratedScene {
     Scene scene;   ///< metadata: generator, generator_version, seed, plan_type, n_rooms, ajar, ..., config
     std::string plan_type;
     std::vector<RoomInfo> rooms;
     std::vector<DoorInfo> doors;
     std::vector<FurnitureInfo> furniture;
-    std::vector<LightInfo> lights;
+    std::vector<LightInfo> lights;   ///< ceiling lights that are on
+    std::vector<WindowInfo> windows;
+    std::vector<FixtureLightInfo> fixture_lights;
     bool ajar = false;    ///< all lights in one sparsely furnished room; the rest is lit via doors
 };
 

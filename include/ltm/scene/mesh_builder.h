@@ -19,8 +19,9 @@ void add_quad_facing(TriangleMesh &mesh, Vec3f a, Vec3f b, Vec3f c, Vec3f d, Vec
 /// Axis-aligned box [lo, hi] with outward normals (12 triangles, 24 vertices, metric uvs).
 void add_box(TriangleMesh &mesh, Vec3f lo, Vec3f hi);
 
-/// Closed cylinder along +y: base centre, radius, height, `segments` sides; outward normals.
-void add_cylinder(TriangleMesh &mesh, Vec3f base_center, float radius, float height, int segments);
+/// Cylinder along +y: base centre, radius, height, `segments` sides; outward normals. Without
+/// caps it is an open tube of one sheet (a lampshade).
+void add_cylinder(TriangleMesh &mesh, Vec3f base_center, float radius, float height, int segments, bool caps = true);
 
 /// The one rule for a degenerate triangle, shared by the scene loader (which drops them) and
 /// validate_scene (which refuses them): twice its area is not above k · (longest edge)², k = 1e-6,
