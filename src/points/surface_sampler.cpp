@@ -17,21 +17,36 @@ struct TriangleRef {
     uint32_t mesh, triangle;
 };
 
-// Area CDF over all triangles in scene order (double: 10⁶ triangles of mixed size stay exact
-// enough that no triangle gets a zero-width interval).
+// Luminance of a triangle's emitted radiance at its centroid (0 for non-emitters).
+double centroid_emission(const Scene &scene, size_t m, size_t t) {
+    const TriangleMesh &mesh = scene.meshes[m];
+    const Material &mat = scene.materials[size_t(mesh.material)];
+    if (!mat.is_emissive()) return 0.0;
+    return double(luminance(mat.emission.eval(mesh.uv_at(t, 1.f / 3.f, 1.f / 3.f, 1.f / 3.f))));
+}
+
+// Area (or emitted-power) CDF over the triangles in scene order (double: 10⁶ triangles of mixed
+// size stay exact enough that no triangle gets a zero-width interval); triangles of weight 0 are
+// left out.
 struct AreaDistribution {
     std::vector<TriangleRef> tris;
-    std::vector<double> cdf;   // cdf[k] = area of triangles < k, normalised; cdf.back() = 1
-    explicit AreaDistribution(const Scene &scene) {
+    std::vector<double> cdf;   // cdf[k] = weight of triangles < k, normalised; cdf.back() = 1
+    explicit AreaDistribution(const Scene &scene, SampleWeight weight = SampleWeight::area) {
         cdf.push_back(0.0);
         double sum = 0.0;
         for (size_t m = 0; m < scene.meshes.size(); ++m)
             for (size_t t = 0; t < scene.meshes[m].n_triangles(); ++t) {
-                sum += double(scene.meshes[m].area(t));
+                double w = double(scene.meshes[m].area(t));
+                if (weight == SampleWeight::emitted_power) {
+                    w *= centroid_emission(scene, m, t);
+                    if (!(w > 0.0)) continue;
+                }
+                sum += w;
                 tris.push_back({uint32_t(m), uint32_t(t)});
                 cdf.push_back(sum);
             }
-        if (!(sum > 0.0)) LTM_THROW("sample_surface(): scene '", scene.name, "' has zero surface area");
+        if (!(sum > 0.0))
+            LTM_THROW("sample_surface(): scene '", scene.name, "' has ", weight == SampleWeight::area ? "zero surface area" : "no emitting surface");
         for (double &c : cdf) c /= sum;
         cdf.back() = 1.0;
     }
@@ -79,11 +94,11 @@ std::vector<SurfaceSample> draw(const Scene &scene, const AreaDistribution &dist
 }  // namespace
 
 std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, uint64_t seed,
-                                          SampleStream stream, const SampleFilter &filter, SampleStats *stats) {
+                                          SampleStream stream, const SampleFilter &filter, SampleStats *stats, SampleWeight weight) {
     if (n_points <= 0) LTM_THROW("sample_surface(): point count must be > 0, got ", n_points);
     if (n_points > k_max_sample_count)
         LTM_THROW("sample_surface(): point count ", n_points, " exceeds the limit of ", k_max_sample_count);
-    const AreaDistribution dist(scene);
+    const AreaDistribution dist(scene, weight);
     if (!filter) {
         if (stats) *stats = {n_points, n_points};
         return draw(scene, dist, n_points, seed, stream);
@@ -140,6 +155,13 @@ std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, 
             return out;
         }
     }
+}
+
+double emitted_luminance_power(const Scene &scene) {
+    double sum = 0.0;
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+        for (size_t t = 0; t < scene.meshes[m].n_triangles(); ++t) sum += double(scene.meshes[m].area(t)) * centroid_emission(scene, m, t);
+    return 3.14159265358979323846 * sum;
 }
 
 namespace {

@@ -18,7 +18,11 @@ struct SurfaceSample {
 };
 
 /// Independent sample streams of one scene (different points for the same seed).
-enum class SampleStream : uint64_t { scene_points = 1, query_points = 2, view_points = 3 };
+enum class SampleStream : uint64_t { scene_points = 1, query_points = 2, view_points = 3, emitter_points = 4 };
+
+/// What a sample's triangle is drawn in proportion to: its area (the paper's surface sampling), or
+/// the luminance power it emits, area × lum(Le at its centroid) (emitters only; scene_points.h).
+enum class SampleWeight { area, emitted_power };
 
 /// Largest point count one call accepts (memory guard: 48 bytes per sample).
 inline constexpr int64_t k_max_sample_count = 50'000'000;
@@ -43,9 +47,15 @@ struct SampleStats {
 /// pass: all survivors of the earlier rounds and a seeded uniform subset of the last round's, still
 /// area-weighted over the surfaces that pass the filter. One candidate whose verdict flips changes
 /// at most one output point (tested): the same scene in another unit samples the same points.
+/// With SampleWeight::emitted_power the same construction runs over the emitting triangles only,
+/// weighted by their power (throws if nothing emits).
 std::vector<SurfaceSample> sample_surface(const Scene &scene, int64_t n_points, uint64_t seed,
                                           SampleStream stream, const SampleFilter &filter = {},
-                                          SampleStats *stats = nullptr);
+                                          SampleStats *stats = nullptr, SampleWeight weight = SampleWeight::area);
+
+/// π ∫ lum(Le) dA over the emitting triangles, Le taken at each triangle's centroid (the weights of
+/// SampleWeight::emitted_power): the scene's luminance power (W).
+double emitted_luminance_power(const Scene &scene);
 
 /// [M, 12] scene points (scene_point_columns()).
 PointSet to_scene_points(const std::vector<SurfaceSample> &samples);

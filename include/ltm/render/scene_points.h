@@ -21,9 +21,23 @@ struct ScenePoints {
 /// (EnclosureTest::buried_distance), in units of the points' nominal spacing √(A/M).
 constexpr float k_buried_spacings = 0.5f;
 
+/// Emitters get at least M / k_emitter_share_inv of the scene points (64 of 8 192). Area-uniform
+/// sampling gives a lamp's bulb or a small sphere light one to three points, or none: the prior then
+/// has its light leave from one disc, and shadowed by its shade it reaches almost nothing (issue
+/// #29's lamp case: level 0.27).
+constexpr int64_t k_emitter_share_inv = 128;
+
 /// M scene points of accel.scene() with `seed`; exclude_enclosed drops points inside closed solids
 /// and buried in gaps thinner than buried_spacings · √(A/M) (render/enclosure.h; 0: solids only) and
 /// shrinks the area A of S by the filter's pass fraction.
+///
+/// Emitter floor: when fewer than K = M / k_emitter_share_inv of the area-uniform points lie on
+/// emitters, those points and K − n_e others (a seeded uniform choice) give way to K points drawn
+/// on the emitters in proportion to their power (SampleStream::emitter_points, the same filter).
+/// Each then carries an equal share of the power: Le' = Le · Φ_Y / (π K a · lum(Le)), a = A/M the
+/// area every node stands for, so π Σ Le' a = Φ in expectation per channel (the exact emission scale
+/// then rescales it, as before); and it reflects as the area it stands for: ρ' = ρ · min(1, A_e /
+/// (K a)), A_e the emitters' area. Scenes whose emitters already hold K points are unchanged.
 ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed = true,
                                 float buried_spacings = k_buried_spacings);
 
