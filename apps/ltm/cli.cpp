@@ -22,7 +22,7 @@ namespace ltm::cli {
 std::vector<Command> commands() {
     // Built afresh per call: each Command owns its parsed-argument state.
     std::vector<Command> table = {make_generate_command(), make_sample_command(), make_preview_command(),
-                                  make_bake_command(), make_render_command(), make_info_command(),
+                                  make_bake_command(), make_bake_gi_command(), make_render_command(), make_info_command(),
                                   make_edit_command(), make_convert_command(), make_dataset_command()};
 #ifdef LTM_WITH_TORCH
     for (auto make : {make_train_command, make_export_command, make_eval_command, make_eval_directional_command}) table.push_back(make());

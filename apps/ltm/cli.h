@@ -72,6 +72,7 @@ Command make_preview_command();
 Command make_info_command();
 Command make_render_command();
 Command make_bake_command();
+Command make_bake_gi_command();
 Command make_edit_command();
 Command make_convert_command();
 Command make_dataset_command();

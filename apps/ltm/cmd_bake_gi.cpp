@@ -1,0 +1,115 @@
+// cmd_bake_gi.cpp: `ltm bake-gi <scene> --model M -o out.glb` (issue #32): the scene refined
+// (render/gi_bake.h), the model's Ê⁺ and the renderer's E_direct at every vertex, written as glTF
+// with per-vertex radiance. `--method pathtrace --spp N` bakes the path tracer's E_direct and E⁺ at
+// the same vertices instead, for comparison.
+#include <chrono>
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+
+#include "cli.h"
+#include "ltm/core/log.h"
+#include "ltm/core/progress.h"
+#include "ltm/render/direct_light.h"
+#include "ltm/render/embree_accel.h"
+#include "ltm/render/gi_bake.h"
+#include "ltm/render/path_tracer.h"
+#include "ltm/scene/scene_loader.h"
+#if LTM_WITH_TORCH
+#include "ltm/infer/neural_renderer.h"
+#endif
+
+namespace ltm::cli {
+
+namespace {
+
+struct BakeGiArgs {
+    std::string scene, output, method = "neural", model;
+    int spp = 256, direct_spp = 64, scene_points = 0;
+    float max_edge = 0.f, exposure = 1.f;
+    int64_t max_vertices = 8'000'000;
+};
+
+std::vector<Vec3f> column(const Image &img) { return img.pixels; }   // vertex_points(): one row, a vertex per pixel
+
+void declare(CLI::App &sub, BakeGiArgs &a) {
+    add_scene_argument(sub, a.scene);
+    sub.add_option("--method", a.method, "neural (the model's E+) | pathtrace (the path tracer's, for comparison)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"neural", "pathtrace"}));
+    sub.add_option("--model", a.model, "Weights for --method neural (models/ltm-cpu.safetensors)");
+    sub.add_option("--spp", a.spp, "Samples per vertex for E_direct and E+ (pathtrace)")->capture_default_str()->check(CLI::Range(1, 1 << 20));
+    sub.add_option("--direct-spp", a.direct_spp, "Light samples per vertex for E_direct (neural)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 20));
+    sub.add_option("--scene-points", a.scene_points, "Scene points the model samples (neural; default: the model's own)")
+        ->check(CLI::NonNegativeNumber);
+    sub.add_option("--max-edge", a.max_edge, "Longest edge after refinement, scene units (0: the scene's largest extent / 64)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    sub.add_option("--max-vertices", a.max_vertices, "Refuse a refinement with more vertices than this")
+        ->capture_default_str()
+        ->check(CLI::Range(int64_t(3), int64_t(1) << 34));
+    sub.add_option("--exposure", a.exposure, "Exposure of COLOR_0 (the tone-mapped radiance any viewer shows)")->capture_default_str();
+    add_output_option(sub, a.output, "Output .glb (binary glTF 2.0)");
+}
+
+void run(const BakeGiArgs &a, const CommonOptions &common) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    if (!(a.exposure > 0.f)) LTM_THROW("--exposure ", a.exposure, ": must be > 0");
+    if (a.method == "neural" && a.model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
+    if (a.method == "pathtrace" && !a.model.empty()) LTM_THROW("--model is only used with --method neural");
+    const std::filesystem::path out(a.output);
+    if (out.extension() != ".glb") LTM_THROW(a.output, ": the output must be a .glb file");
+    if (out.has_parent_path() && !std::filesystem::is_directory(out.parent_path()))
+        LTM_THROW(a.output, ": cannot write: directory '", out.parent_path().string(), "' does not exist");
+    const Scene scene = load_scene(a.scene);
+    bool lit = false;
+    for (const Material &m : scene.materials) lit |= m.is_emissive();
+    if (!lit) LTM_THROW(a.scene, ": no emitter (area light): nothing to bake");
+    RefineOptions ro;
+    ro.max_edge = a.max_edge, ro.max_vertices = a.max_vertices;
+    std::vector<BakedMesh> meshes = refine_for_bake(scene, ro);
+    const GBuffer gb = vertex_points(meshes);
+    log_info("bake-gi: ", scene.meshes.size(), " meshes refined to ", gb.n_hits(), " vertices");
+    const EmbreeAccel accel(scene);
+    PathTracerConfig pc;
+    pc.seed = common.seed;
+    const PathTracer pt(accel, pc);
+    std::vector<Vec3f> direct, indirect;
+    if (a.method == "pathtrace") {
+        const IrradianceImages ir = irradiance_images(pt, gb, a.spp, /*with_indirect=*/true);
+        direct = column(ir.direct), indirect = column(ir.indirect);
+    } else {
+#if LTM_WITH_TORCH
+        LoadedModel m = load_model(a.model);
+        if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
+        const EncodedScene enc = encode_scene(m.model, accel, common.seed);
+        indirect = predict_gbuffer(m.model, enc, gb);
+        // Direct light as `ltm render --method neural` computes it (ratio estimator when every
+        // emitter is constant, else the path tracer's MIS).
+        if (RatioDirectLight::supports(scene)) {
+            const RatioDirectLight ratio(accel, common.seed);
+            direct = column(direct_images_ratio(ratio, gb, a.direct_spp).direct);
+        } else {
+            direct = column(irradiance_images(pt, gb, a.direct_spp, /*with_indirect=*/false).direct);
+        }
+#else
+        LTM_THROW("--method neural: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
+#endif
+    }
+    compose_bake(meshes, direct, indirect);
+    write_bake_glb(a.output, scene, meshes, a.exposure, "ltm bake-gi (" + a.method + ")");
+    log_info("bake-gi: ", gb.n_hits(), " vertices (", a.method, ") -> ", a.output, " in ",
+             format_duration(std::chrono::duration<double>(Clock::now() - t0).count()));
+}
+
+}  // namespace
+
+Command make_bake_gi_command() {
+    return make_command("bake-gi", "Bake global illumination at the vertices of the refined scene into glTF (.glb): radiance and E+ per vertex",
+                        declare, run);
+}
+
+}  // namespace ltm::cli
