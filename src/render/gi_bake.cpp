@@ -53,11 +53,11 @@ int lattice_count(Vec3f p0, Vec3f p1, Vec3f p2, float max_edge) {
 }  // namespace
 
 std::vector<BakedMesh> refine_for_bake(const Scene &scene, const RefineOptions &opt) {
-    if (scene.meshes.empty()) LTM_THROW("bake-gi: scene '", scene.name, "' has no meshes");
+    if (scene.meshes.empty()) LTM_THROW("scene '", scene.name, "' has no meshes to bake");
     const Bounds3f b = scene.bounds();
     const Vec3f ext = b.hi - b.lo;
     const float max_edge = opt.max_edge > 0.f ? opt.max_edge : std::max({ext.x, ext.y, ext.z}) / 64.f;
-    if (!(max_edge > 0.f)) LTM_THROW("bake-gi: scene '", scene.name, "' has no extent");
+    if (!(max_edge > 0.f)) LTM_THROW("scene '", scene.name, "' has no extent to bake");
     // Which sides of each triangle light reaches (render/reachable_air.h), then the budget, counted
     // before the vertices are built: n² triangles and (n+1)(n+2)/2 lattice points per side.
     const ReachableAir air(scene);
@@ -78,7 +78,7 @@ std::vector<BakedMesh> refine_for_bake(const Scene &scene, const RefineOptions &
         }
     }
     if (estimate > opt.max_vertices)
-        LTM_THROW("bake-gi: refining '", scene.name, "' to edges of ", max_edge, " would make about ", estimate,
+        LTM_THROW("scene '", scene.name, "': refining to edges of ", max_edge, " would make about ", estimate,
                   " vertices, over the budget of ", opt.max_vertices, " (raise --max-edge or --max-vertices)");
     std::vector<BakedMesh> out(scene.meshes.size());
     for (size_t mi = 0; mi < scene.meshes.size(); ++mi) {
@@ -336,6 +336,41 @@ void write_bake_glb(const std::string &path, const Scene &scene, const std::vect
         gs.nodes.push_back(int(g.nodes.size()) - 1);
     }
     if (g.meshes.empty()) LTM_THROW(path, ": nothing to write (no baked triangles)");
+    // The scene's cameras as glTF cameras (a viewer's bookmarks): a node at the eye whose −z looks
+    // at the target, +y toward the camera's up.
+    for (const Camera &c : scene.cameras) {
+        tinygltf::Camera gc;
+        gc.name = c.name;
+        gc.type = "perspective";
+        gc.perspective.yfov = double(c.fov_y_deg) * 3.14159265358979323846 / 180.0;
+        gc.perspective.aspectRatio = double(c.width) / double(std::max(1, c.height));
+        gc.perspective.znear = 0.01 * double(max_component(scene.bounds().hi - scene.bounds().lo)) + 1e-6;
+        g.cameras.push_back(gc);
+        const Vec3f f = normalize(c.target - c.eye), r = normalize(cross(f, c.up)), u = cross(r, f);
+        // Rotation with columns (r, u, −f) as a unit quaternion (x, y, z, w).
+        const float m00 = r.x, m11 = u.y, m22 = -f.z, trace = m00 + m11 + m22;
+        double q[4];
+        if (trace > 0.f) {
+            const double sq = std::sqrt(double(trace) + 1.0) * 2.0;
+            q[3] = 0.25 * sq, q[0] = double(u.z - -f.y) / sq, q[1] = double(-f.x - r.z) / sq, q[2] = double(r.y - u.x) / sq;
+        } else if (m00 > m11 && m00 > m22) {
+            const double sq = std::sqrt(1.0 + double(m00 - m11 - m22)) * 2.0;
+            q[3] = double(u.z - -f.y) / sq, q[0] = 0.25 * sq, q[1] = double(u.x + r.y) / sq, q[2] = double(-f.x + r.z) / sq;
+        } else if (m11 > m22) {
+            const double sq = std::sqrt(1.0 + double(m11 - m00 - m22)) * 2.0;
+            q[3] = double(-f.x - r.z) / sq, q[0] = double(u.x + r.y) / sq, q[1] = 0.25 * sq, q[2] = double(-f.y + u.z) / sq;
+        } else {
+            const double sq = std::sqrt(1.0 + double(m22 - m00 - m11)) * 2.0;
+            q[3] = double(r.y - u.x) / sq, q[0] = double(-f.x + r.z) / sq, q[1] = double(-f.y + u.z) / sq, q[2] = 0.25 * sq;
+        }
+        tinygltf::Node node;
+        node.name = c.name;
+        node.camera = int(g.cameras.size()) - 1;
+        node.translation = {c.eye.x, c.eye.y, c.eye.z};
+        node.rotation = {q[0], q[1], q[2], q[3]};
+        g.nodes.push_back(node);
+        gs.nodes.push_back(int(g.nodes.size()) - 1);
+    }
     if (used_strength) g.extensionsUsed.push_back("KHR_materials_emissive_strength");
     g.scenes.push_back(gs);
     g.defaultScene = 0;

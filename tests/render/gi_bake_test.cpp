@@ -126,7 +126,11 @@ TEST(GiBake, GlbHoldsTheComposedRadianceAndLoadsBack) {
     EXPECT_NEAR(m[1].radiance[0].x, 4.f + 0.8f / 3.14159265f * (direct[m[0].position.size()].x + 0.5f), 1e-5f);   // the light's Le + its reflection
     test::TempDir dir;
     const std::string path = dir.path("floor.glb");
-    write_bake_glb(path, s, m, 1.f, "test");
+    Scene with_camera = s;
+    Camera cam;
+    cam.name = "main", cam.eye = {1.f, 1.f, 3.f}, cam.target = {1.f, 0.f, 1.f};
+    with_camera.cameras.push_back(cam);
+    write_bake_glb(path, with_camera, m, 1.f, "test");
     tinygltf::Model g;
     tinygltf::TinyGLTF loader;
     std::string err, warn;
@@ -144,8 +148,11 @@ TEST(GiBake, GlbHoldsTheComposedRadianceAndLoadsBack) {
     const tinygltf::Accessor &pa = g.accessors[size_t(p.attributes.at("POSITION"))];
     EXPECT_EQ(pa.minValues, (std::vector<double>{0.0, 0.0, 0.0}));
     EXPECT_EQ(pa.maxValues, (std::vector<double>{2.0, 0.0, 2.0}));
-    // ltm's own glTF reader reads the geometry back.
+    // ltm's own glTF reader reads the geometry back, and the camera: same eye and view direction.
     const Scene back = load_scene(path);
+    ASSERT_EQ(back.cameras.size(), 1u);
+    EXPECT_LT(length(back.cameras[0].eye - cam.eye), 1e-5f);
+    EXPECT_GT(dot(normalize(back.cameras[0].target - back.cameras[0].eye), normalize(cam.target - cam.eye)), 0.99999f);
     EXPECT_EQ(back.meshes.size(), 2u);
     EXPECT_EQ(back.meshes[0].n_triangles(), m[0].indices.size() / 3);
     EXPECT_GT(max_component(back.materials[size_t(back.meshes[1].material)].emission.color_a), 3.99f);   // the light still emits
