@@ -5,7 +5,8 @@
 # every kept step (RUN/step-*.ltmckpt, from `--set keep_val_checkpoints=true`; else RUN/last.ltmckpt),
 # evaluates each with `ltm eval` on the validation houses' camera views (seeds disjoint from
 # training and test; references cached in refs-val/), and prints one line per candidate, best
-# (lowest view MSE) last. Env: LTM, SEEDS (100000:100032), SIZE (64), REF_SPP (256).
+# (lowest view MSE) last. Env: LTM, SEEDS (100000:100032), SIZE (64), REF_SPP (256), GEN (a generator
+# config for the seeds, e.g. configs/gen/real-mix.json; default the built-in), REF_CACHE (refs-val).
 set -euo pipefail
 RUN=$1
 BASELINE=${2:-}
@@ -13,6 +14,8 @@ LTM=${LTM:-build/apps/ltm/ltm}
 SEEDS=${SEEDS:-100000:100032}
 SIZE=${SIZE:-64}
 REF_SPP=${REF_SPP:-256}
+GEN=${GEN:-}
+REF_CACHE=${REF_CACHE:-refs-val}
 out="$RUN/select"
 mkdir -p "$out"
 candidates=()
@@ -29,8 +32,8 @@ done
 first=${candidates[0]#*=}
 ablations=()
 for c in "${candidates[@]:1}"; do ablations+=(--ablation "$c"); done
-"$LTM" eval -q --model "$first" "${ablations[@]}" --scenes "$SEEDS" --width "$SIZE" --height "$SIZE" --ref-spp "$REF_SPP" \
-    --baseline-spp 4 --ref-cache refs-val --no-grids -o "$out/eval"
+"$LTM" eval -q --model "$first" "${ablations[@]}" --scenes "$SEEDS" ${GEN:+--gen-config "$GEN"} --width "$SIZE" --height "$SIZE" --ref-spp "$REF_SPP" \
+    --baseline-spp 4 --ref-cache "$REF_CACHE" --no-grids -o "$out/eval"
 # One line per model row of the table (model:ours is the first candidate), sorted by MSE, best last.
 first_name=${candidates[0]%%=*}
 grep '^| model:' "$out/eval/table.md" | sed "s/model:ours/model:$first_name/" | sort -t'|' -k4,4gr
