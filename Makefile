@@ -5,7 +5,7 @@ JOBS ?= 2
 LTM_WITH_TORCH ?= ON
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test test-all demo bench clean
+.PHONY: all deps configure build test test-all demo bench viewer clean
 
 all: build
 
@@ -27,6 +27,10 @@ demo: build
 
 bench: build
 	@BUILD=$(BUILD) scripts/bench.sh
+
+# The browser viewer's bundle (web/dist/viewer.js: three.js from npm, esbuild); scripts/view.sh uses it.
+viewer:
+	@cd web && { [ -d node_modules/three ] || npm ci --no-audit --no-fund --loglevel=error; } && npm run -s build
 
 clean:
 	@rm -rf $(BUILD) demo-out

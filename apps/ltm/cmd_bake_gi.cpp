@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "ltm/core/image.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
 #include "ltm/render/direct_light.h"
@@ -24,7 +25,8 @@ namespace ltm::cli {
 namespace {
 
 struct BakeGiArgs {
-    std::string scene, output, method = "neural", model;
+    std::string scene, output, method = "neural", model, view, camera;
+    int view_size = 0;
     int spp = 256, direct_spp = 64, scene_points = 0;
     float max_edge = 0.f, exposure = 1.f;
     int64_t max_vertices = 8'000'000;
@@ -51,6 +53,10 @@ void declare(CLI::App &sub, BakeGiArgs &a) {
         ->capture_default_str()
         ->check(CLI::Range(int64_t(3), int64_t(1) << 34));
     sub.add_option("--exposure", a.exposure, "Exposure of COLOR_0 (the tone-mapped radiance any viewer shows)")->capture_default_str();
+    sub.add_option("--view", a.view,
+                   "Also write <prefix>.png: the bake seen through --camera as a rasteriser shows the .glb (COLOR_0's tone map; the viewer's reference)");
+    add_camera_option(sub, a.camera);
+    sub.add_option("--view-size", a.view_size, "Square size of --view in pixels (0: the camera's own size)")->check(CLI::Range(0, 16384));
     add_output_option(sub, a.output, "Output .glb (binary glTF 2.0)");
 }
 
@@ -101,6 +107,17 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     }
     compose_bake(meshes, direct, indirect);
     write_bake_glb(a.output, scene, meshes, a.exposure, "ltm bake-gi (" + a.method + ")");
+    if (!a.view.empty()) {
+        const Camera cam = choose_camera(scene, a.camera, a.view_size, a.view_size, a.scene);
+        const BakeView v = view_bake(meshes, cam);
+        Image shown(cam.width, cam.height);   // Reinhard x/(1+x) in linear; write_png encodes sRGB, as COLOR_0
+        for (size_t i = 0; i < shown.pixels.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const float x = std::max(0.f, v.radiance.pixels[i][c] * a.exposure);
+                shown.pixels[i][c] = x / (1.f + x);
+            }
+        write_png(a.view + ".png", shown);
+    }
     log_info("bake-gi: ", gb.n_hits(), " vertices (", a.method, ") -> ", a.output, " in ",
              format_duration(std::chrono::duration<double>(Clock::now() - t0).count()));
 }
