@@ -27,7 +27,7 @@ namespace {
 struct BakeGiArgs {
     std::string scene, output, method = "neural", model, view, camera;
     int view_size = 0;
-    int spp = 256, direct_spp = 64, scene_points = 0;
+    int spp = 256, direct_spp = 16, scene_points = 0;   // direct_spp: `ltm render`'s default
     float max_edge = 0.f, exposure = 1.f;
     int64_t max_vertices = 8'000'000;
 };
