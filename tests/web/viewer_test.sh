@@ -4,7 +4,7 @@
 # WebGL) at the scene's camera, and compares its screenshot with ltm's own software view of the same
 # .glb (`ltm bake-gi --view`): mean absolute difference ≤ 0.04; the same page at exposure 2⁻¹² must
 # differ by ≥ 0.15 (the screenshot shows the bake's light, not a blank canvas). Exit 77 (skipped) when
-# Chromium or npm is absent.
+# Chromium or npm is absent, or the viewer cannot be built (no npm registry).
 set -euo pipefail
 LTM=${1:?usage: viewer_test.sh path/to/ltm}
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
@@ -13,6 +13,11 @@ BROWSER=$(command -v chromium || command -v chromium-browser || true)
 [[ -f "$ROOT/web/dist/viewer.js" ]] || command -v npm > /dev/null || { echo "viewer_test: skipped: no npm to build the viewer"; exit 77; }
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
+# The viewer's bundle: built here once if missing (npm ci + esbuild); without the npm registry, skipped.
+if [[ ! -f "$ROOT/web/dist/viewer.js" ]]; then
+  (cd "$ROOT/web" && { [[ -d node_modules/three ]] || npm ci --no-audit --no-fund --loglevel=error; } && npm run -s build) > "$T/npm.log" 2>&1 ||
+    { echo "viewer_test: skipped: the viewer could not be built (npm ci: no registry?)"; tail -3 "$T/npm.log"; exit 77; }
+fi
 "$LTM" bake-gi builtin:cornell-box --method pathtrace --spp 16 --max-edge 0.05 -o "$T/cb.glb" --view "$T/soft" --view-size 128 -q
 "$ROOT/scripts/view.sh" "$T/cb.glb" "$T/site" 2> /dev/null
 shot() {
