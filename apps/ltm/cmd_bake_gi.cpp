@@ -110,12 +110,8 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     if (!a.view.empty()) {
         const Camera cam = choose_camera(scene, a.camera, a.view_size, a.view_size, a.scene);
         const BakeView v = view_bake(meshes, cam);
-        Image shown(cam.width, cam.height);   // Reinhard x/(1+x) in linear; write_png encodes sRGB, as COLOR_0
-        for (size_t i = 0; i < shown.pixels.size(); ++i)
-            for (int c = 0; c < 3; ++c) {
-                const float x = std::max(0.f, v.radiance.pixels[i][c] * a.exposure);
-                shown.pixels[i][c] = x / (1.f + x);
-            }
+        Image shown(cam.width, cam.height);   // write_png encodes sRGB: the pixels are COLOR_0's
+        for (size_t i = 0; i < shown.pixels.size(); ++i) shown.pixels[i] = bake_display(v.radiance.pixels[i], a.exposure);
         write_png(a.view + ".png", shown);
     }
     log_info("bake-gi: ", gb.n_hits(), " vertices (", a.method, ") -> ", a.output, " in ",

@@ -49,17 +49,6 @@ struct Side {
     }
 };
 
-size_t pick_rect(const std::vector<Rect2f> &rects, Pcg32 &rng) {
-    float total = 0.f;
-    for (const Rect2f &r : rects) total += r.area();
-    float u = rng.uniform(0.f, total);
-    for (size_t k = 0; k + 1 < rects.size(); ++k) {
-        if (u < rects[k].area()) return k;
-        u -= rects[k].area();
-    }
-    return rects.size() - 1;
-}
-
 bool overlaps_any(const Rect2f &r, const std::vector<Rect2f> &others) {
     for (const Rect2f &o : others)
         if (r.overlaps(o)) return true;
@@ -125,6 +114,7 @@ void place_windows(GeneratedScene &g, FloorPlan &plan, const GenConfig &cfg, uin
     std::vector<Rect2f> door_zones;
     for (const DoorInfo &d : g.doors) door_zones.push_back(d.opening.expanded(cfg.doors.clear_depth));
     std::vector<Rect2f> curtains;   // every panel so far: panels of two windows do not meet
+    std::vector<Rect2f> air = holes_and_air(g);   // grows with each window placed
     for (size_t r = 0; r < g.rooms.size(); ++r) {
         if (g.rooms[r].kind == "hallway") continue;
         Pcg32 rng = stream(seed, k_windows, r);
@@ -132,7 +122,7 @@ void place_windows(GeneratedScene &g, FloorPlan &plan, const GenConfig &cfg, uin
         const int n = rng.uniform_int(fx.windows_per_room.lo, fx.windows_per_room.hi);
         for (int i = 0; i < n; ++i)
             for (int attempt = 0; attempt < 30; ++attempt) {
-                const Side s{g.rooms[r].rects[pick_rect(g.rooms[r].rects, rng)], int(rng.next_below(4))};
+                const Side s{g.rooms[r].rects[pick_area_weighted(g.rooms[r].rects, rng)], int(rng.next_below(4))};
                 const float span = s.along1() - s.along0() - 2.f * k_corner;
                 const float width = mm_round(std::min(rng.uniform(fx.window_width.x, fx.window_width.y), span));
                 const float sill = mm_round(rng.uniform(fx.window_sill.x, fx.window_sill.y));
@@ -141,7 +131,6 @@ void place_windows(GeneratedScene &g, FloorPlan &plan, const GenConfig &cfg, uin
                 const float t0 = mm_round(rng.uniform(s.along0() + k_corner, std::max(s.along0() + k_corner, s.along1() - k_corner - width)));
                 if (width < 0.3f || top - sill < 0.3f || depth < 0.01f) continue;
                 // Outside: no air (any room, door, window) within the window's depth plus a wall.
-                std::vector<Rect2f> air = holes_and_air(g);
                 if (overlaps_any(s.plan(t0 - wall, t0 + width + wall, 0.001f, depth + wall), air)) continue;
                 WindowInfo w;
                 w.room = int(r);
@@ -173,6 +162,7 @@ void place_windows(GeneratedScene &g, FloorPlan &plan, const GenConfig &cfg, uin
                 op.outward_sign = s.sign() > 0.f ? 1 : -1;
                 w.opening = int(plan.openings.size());
                 plan.openings.push_back(op);
+                air.push_back(w.hole);
                 g.windows.push_back(std::move(w));
                 break;
             }
@@ -307,18 +297,19 @@ void add_table_lamp(GeneratedScene &g, const FurnitureInfo &f, const GenConfig &
 }
 
 /// Room r's wall-mounted pieces: sconces (an open cup with an up-facing emitter) and a light
-/// strip under the ceiling. `taken` holds what they must not meet (furniture, curtains, each other).
-void add_wall_lights(GeneratedScene &g, size_t r, std::vector<Bounds3f> &taken, const GenConfig &cfg, uint64_t seed) {
+/// strip under the ceiling. `air`: holes_and_air(); `taken` holds what they must not meet (furniture,
+/// curtains, each other).
+void add_wall_lights(GeneratedScene &g, size_t r, const std::vector<Rect2f> &air, std::vector<Bounds3f> &taken, const GenConfig &cfg,
+                     uint64_t seed) {
     const GenConfig::Fixtures &fx = cfg.fixtures;
     const RoomInfo &room = g.rooms[r];
-    const std::vector<Rect2f> air = holes_and_air(g);
     Pcg32 rng = stream(seed, k_sconce, r);
     if (rng.bernoulli(fx.p_sconces)) {
         const int n = rng.uniform_int(fx.sconces_per_room.lo, fx.sconces_per_room.hi);
         const Texture cup_albedo = sample_albedo(rng.bernoulli(0.5f) ? SurfaceKind::metal : SurfaceKind::painted, cfg.textures, rng);
         for (int i = 0; i < n; ++i)
             for (int attempt = 0; attempt < 30; ++attempt) {
-                const Side s{room.rects[pick_rect(room.rects, rng)], int(rng.next_below(4))};
+                const Side s{room.rects[pick_area_weighted(room.rects, rng)], int(rng.next_below(4))};
                 const float w = rng.uniform(0.15f, 0.3f), d = 0.1f, h = 0.12f;
                 const float y0 = std::max(1.0f, std::min(rng.uniform(1.5f, 2.0f), room.ceiling_height - 0.45f));
                 if (s.along1() - s.along0() < w + 0.2f) continue;
@@ -350,7 +341,7 @@ void add_wall_lights(GeneratedScene &g, size_t r, std::vector<Bounds3f> &taken, 
     Pcg32 srng = stream(seed, k_strip, r);
     if (srng.bernoulli(fx.p_strip))
         for (int attempt = 0; attempt < 30; ++attempt) {
-            const Side s{room.rects[pick_rect(room.rects, srng)], int(srng.next_below(4))};
+            const Side s{room.rects[pick_area_weighted(room.rects, srng)], int(srng.next_below(4))};
             const float avail = s.along1() - s.along0() - 0.3f;
             const float len = srng.uniform(0.5f, 1.f) * avail, hs = srng.uniform(0.02f, 0.04f);
             const float y0 = room.ceiling_height - srng.uniform(0.06f, 0.25f) - hs;
@@ -414,8 +405,10 @@ void add_fixtures(GeneratedScene &g, std::vector<RoomShell> &shells, const GenCo
             if (rng.bernoulli(fx.p_table_lamp)) add_table_lamp(g, f, cfg, rng, mat_rng, taken);
         }
     }
-    if (fx.p_sconces > 0.f || fx.p_strip > 0.f)
-        for (size_t r = 0; r < g.rooms.size(); ++r) add_wall_lights(g, r, taken, cfg, seed);
+    if (fx.p_sconces > 0.f || fx.p_strip > 0.f) {
+        const std::vector<Rect2f> air = holes_and_air(g);
+        for (size_t r = 0; r < g.rooms.size(); ++r) add_wall_lights(g, r, air, taken, cfg, seed);
+    }
     if (fx.p_ceiling_off > 0.f)
         for (size_t r = 0; r < g.rooms.size(); ++r) {
             // Lit otherwise: a lamp, sconce or strip, or a sky window.

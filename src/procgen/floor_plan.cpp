@@ -11,6 +11,17 @@
 
 namespace ltm {
 
+size_t pick_area_weighted(const std::vector<Rect2f> &rects, Pcg32 &rng) {
+    float total = 0.f;
+    for (const Rect2f &r : rects) total += r.area();
+    float u = rng.uniform(0.f, total);
+    for (size_t k = 0; k + 1 < rects.size(); ++k) {
+        if (u < rects[k].area()) return k;
+        u -= rects[k].area();
+    }
+    return rects.size() - 1;
+}
+
 Rect2f RectMm::to_metres() const {
     return {float(x0) / 1000.f, float(z0) / 1000.f, float(x1) / 1000.f, float(z1) / 1000.f};
 }

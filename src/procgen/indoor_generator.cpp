@@ -22,17 +22,6 @@ namespace {
 
 enum Stream : uint64_t { k_plan = 1, k_lights = 2, k_furniture = 3, k_camera = 4, k_shell_mat = 5, k_item_mat = 6, k_glossy = 7, k_bright = 8 };
 
-size_t pick_area_weighted(const std::vector<Rect2f> &rects, Pcg32 &rng) {
-    float total = 0.f;
-    for (const Rect2f &r : rects) total += r.area();
-    float u = rng.uniform(0.f, total);
-    for (size_t k = 0; k + 1 < rects.size(); ++k) {
-        if (u < rects[k].area()) return k;
-        u -= rects[k].area();
-    }
-    return rects.size() - 1;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Lights: rectangles on the ceiling, inside a room rectangle shrunk by the wall margin, apart
 // from each other. Placed before the furniture, which then keeps tall pieces away from them.

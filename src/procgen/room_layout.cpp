@@ -136,16 +136,7 @@ private:
         }
         return true;
     }
-    size_t pick_rect() {   // area-weighted
-        float total = 0.f;
-        for (const Rect2f &r : m_room.rects) total += r.area();
-        float u = m_rng.uniform(0.f, total);
-        for (size_t k = 0; k + 1 < m_room.rects.size(); ++k) {
-            if (u < m_room.rects[k].area()) return k;
-            u -= m_room.rects[k].area();
-        }
-        return m_room.rects.size() - 1;
-    }
+    size_t pick_rect() { return pick_area_weighted(m_room.rects, m_rng); }
 
     const RoomLayoutInput &m_room;
     const GenConfig &m_cfg;

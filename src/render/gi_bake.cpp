@@ -23,6 +23,14 @@ namespace ltm {
 
 namespace {
 
+/// A point on a side of a surface, as a map key: its position on a grid of `quantum` (rounding
+/// apart: two triangles compute a point of their shared edge differently) and its normal's bits.
+using SideKey = std::tuple<int64_t, int64_t, int64_t, uint32_t, uint32_t, uint32_t>;
+SideKey side_key(Vec3f p, Vec3f n, double quantum) {
+    auto bits = [](float f) { uint32_t u; std::memcpy(&u, &f, 4); return u; };
+    auto grid = [quantum](float x) { return int64_t(std::llround(double(x) / quantum)); };
+    return {grid(p.x), grid(p.y), grid(p.z), bits(n.x), bits(n.y), bits(n.z)};
+}
 
 /// Vertices of one mesh shared by position (on a grid of `quantum`, a millionth of the scene's
 /// extent: two triangles compute a lattice point of their shared edge with different rounding) and
@@ -30,11 +38,9 @@ namespace {
 struct VertexTable {
     BakedMesh *mesh;
     double quantum;
-    std::map<std::tuple<int64_t, int64_t, int64_t, uint32_t, uint32_t, uint32_t>, uint32_t> index;
+    std::map<SideKey, uint32_t> index;
     uint32_t get(Vec3f p, Vec3f n, Vec3f albedo, Vec3f emission) {
-        auto bits = [](float f) { uint32_t u; std::memcpy(&u, &f, 4); return u; };
-        auto grid = [this](float x) { return int64_t(std::llround(double(x) / quantum)); };
-        const auto key = std::make_tuple(grid(p.x), grid(p.y), grid(p.z), bits(n.x), bits(n.y), bits(n.z));
+        const SideKey key = side_key(p, n, quantum);
         const auto it = index.find(key);
         if (it != index.end()) return it->second;
         const uint32_t i = uint32_t(mesh->position.size());
@@ -92,7 +98,6 @@ std::vector<BakedMesh> refine_for_bake(const Scene &scene, const RefineOptions &
             const Vec3f cn = m.cross_normal(t);
             if (!(length(cn) > 0.f)) continue;
             const Vec3f n0 = normalize(cn);
-            const Vec3f centre = m.position_at(t, 1.f / 3.f, 1.f / 3.f, 1.f / 3.f);
             const Vec3f p0 = m.vertex(t, 0), p1 = m.vertex(t, 1), p2 = m.vertex(t, 2);
             const int k = lattice_count(p0, p1, p2, max_edge);
             for (const bool back : {false, true}) {
@@ -162,6 +167,15 @@ void compose_bake(std::vector<BakedMesh> &meshes, const std::vector<Vec3f> &dire
     }
 }
 
+Vec3f bake_display(Vec3f lo, float exposure) {
+    Vec3f t;
+    for (int i = 0; i < 3; ++i) {
+        const float x = std::max(0.f, lo[i] * exposure);
+        t[i] = x / (1.f + x);
+    }
+    return t;
+}
+
 BakeView view_bake(const std::vector<BakedMesh> &meshes, const Camera &camera) {
     Scene s;
     s.name = "bake";
@@ -181,16 +195,11 @@ BakeView view_bake(const std::vector<BakedMesh> &meshes, const Camera &camera) {
     // nothing, as a rasteriser culling back faces does: twins found by centroid and normal.
     const Bounds3f bb = s.bounds();
     const double quantum = 1e-6 * double(max_component(bb.hi - bb.lo)) + 1e-30;
-    using Key = std::tuple<int64_t, int64_t, int64_t, uint32_t, uint32_t, uint32_t>;
-    auto key = [&](Vec3f c, Vec3f n) {
-        auto bits = [](float f) { uint32_t u; std::memcpy(&u, &f, 4); return u; };
-        auto grid = [&](float x) { return int64_t(std::llround(double(x) / quantum)); };
-        return Key{grid(c.x), grid(c.y), grid(c.z), bits(n.x), bits(n.y), bits(n.z)};
-    };
+    auto key = [quantum](Vec3f c, Vec3f n) { return side_key(c, n, quantum); };
     auto centroid = [&](const BakedMesh &m, size_t t) {
         return (m.position[m.indices[3 * t]] + m.position[m.indices[3 * t + 1]] + m.position[m.indices[3 * t + 2]]) * (1.f / 3.f);
     };
-    std::map<Key, std::pair<uint32_t, uint32_t>> by_side;
+    std::map<SideKey, std::pair<uint32_t, uint32_t>> by_side;
     for (size_t mi = 0; mi < meshes.size(); ++mi)
         for (size_t t = 0; t < meshes[mi].indices.size() / 3; ++t)
             by_side.emplace(key(centroid(meshes[mi], t), meshes[mi].normal[meshes[mi].indices[3 * t]]), std::make_pair(uint32_t(mi), uint32_t(t)));
@@ -259,12 +268,8 @@ int add_vec3(tinygltf::Model &g, const std::vector<Vec3f> &v, bool bounds) {
 }
 
 Vec3f tone_map(Vec3f lo, float exposure) {
-    Vec3f c;
-    for (int i = 0; i < 3; ++i) {
-        const float x = std::max(0.f, lo[i] * exposure);
-        c[i] = linear_to_srgb(x / (1.f + x));
-    }
-    return c;
+    const Vec3f t = bake_display(lo, exposure);
+    return {linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z)};
 }
 
 }  // namespace

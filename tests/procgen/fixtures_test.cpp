@@ -108,7 +108,9 @@ TEST(Fixtures, WindowsOpenOnlyOntoTheOutside) {
                 for (const Rect2f &q : r.rects) EXPECT_FALSE(plan_overlap(beyond, q)) << where << " opens into room " << r.id;
             for (const DoorInfo &d : g.doors) EXPECT_FALSE(plan_overlap(beyond, d.opening)) << where;
             for (size_t o = 0; o < g.windows.size(); ++o)
-                if (o != k) EXPECT_FALSE(plan_overlap(w.hole, g.windows[o].hole)) << where;
+                if (o != k) {
+                    EXPECT_FALSE(plan_overlap(w.hole, g.windows[o].hole)) << where;
+                }
             // Its inner face touches its own room: the hole grown back by 1 mm enters the room.
             Rect2f inner = w.hole;
             if (w.outward.x > 0) inner.x0 -= 0.001f;

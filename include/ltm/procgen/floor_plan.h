@@ -30,6 +30,9 @@ struct Rect2f {
     }
 };
 
+/// Index of one of `rects`, drawn in proportion to its area (one rng.uniform draw).
+size_t pick_area_weighted(const std::vector<Rect2f> &rects, Pcg32 &rng);
+
 /// Rectangle in integer millimetres.
 struct RectMm {
     int x0 = 0, z0 = 0, x1 = 0, z1 = 0;

@@ -58,6 +58,10 @@ GBuffer vertex_points(const std::vector<BakedMesh> &meshes);
 /// order of vertex_points()). Conductors are shaded as diffuse with their F0 as ρ (marked in glTF).
 void compose_bake(std::vector<BakedMesh> &meshes, const std::vector<Vec3f> &direct, const std::vector<Vec3f> &indirect);
 
+/// COLOR_0's tone map before its sRGB encoding: Reinhard x / (1 + x) of exposure × Lo, per channel
+/// (the viewer's shader and `ltm bake-gi --view` apply the same).
+Vec3f bake_display(Vec3f lo, float exposure);
+
 /// The bake seen through a camera: primary rays through the pixel centres against the refined
 /// meshes, each hit's vertex values interpolated by its barycentrics — what a rasteriser shows of
 /// the .glb (the reference for the viewer's screenshot, and the check against `ltm render`).
