@@ -3,7 +3,7 @@
 // setting: MSE and SSIM of the views (eval/metrics.h, as `ltm eval` computes them), views that
 // beat the flat oracle, level ratios in [0.8, 1.25], and the solve time. References come from the
 // same cache as `ltm eval --ref-cache` (identical key: scene, camera, spp and tracer seed), so
-//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]] ...]
+//   build/bench/prior_ablation 100000:100032 refs-val [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]]] ...]
 // (or scene files and builtin:NAME, comma-separated, in place of the seed range)
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
 // PRIOR_ABLATION_M=M samples M scene points (default 8 192), PRIOR_ABLATION_POINT_SEED=S with seed S. PRIOR_ABLATION_REF_DEPTH=D traces the reference with max_depth D (E⁺ from bounces 1 … D).
@@ -36,7 +36,7 @@ using namespace ltm;
 
 namespace {
 struct Setting {
-    std::string name;   ///< "H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]]"; "0:0" = no occlusion
+    std::string name;   ///< "H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]]"; "0:0" = no occlusion
     float voxel_spacings;
     int clusters;
     float splat_spacings;   ///< VisibilityOptions::splat_spacings
@@ -47,6 +47,7 @@ struct Setting {
     int blend;              ///< VisibilityOptions::blend (default 1)
     bool patches;           ///< the near field by square patches (solve_transport_prior's `patches`)
     int open_rays;          ///< VisibilityOptions::open_rays (rays per side; 0 = closed rows)
+    float theta;            ///< the cluster tree's opening bound (transport/prior_hierarchy.h; 0 = dense rows)
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
@@ -56,7 +57,7 @@ struct Sums {
 
 int main(int argc, char **argv) {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]] ...]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s A:B REF_CACHE_DIR [size=64] [ref_spp=256] [H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]]] ...]\n", argv[0]);
         return 1;
     }
     configure_process();
@@ -80,26 +81,27 @@ int main(int argc, char **argv) {
     for (int i = 5; i < argc; ++i) names.push_back(argv[i]);
     if (names.empty()) names = {"0:0", "2:1024", "2:2048", "2:4096", "1.5:2048", "3:2048"};
     for (const std::string &n : names) {
-        // Fields H:C[:S[:F[:D[:B[:K[:L[:P]]]]]]]: voxel edge, clusters, then optional the tangent splat, a
+        // Fields H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]]: voxel edge, clusters, then optional the tangent splat, a
         // factor on the node area a (with rows normalised, a only sets the near-field term a/π and, with P, the patches' side and reach), a
         // disc radius (transport/disc_occluder.h; 0 = voxels), lengths in spacings; the power balance
         // B (PriorBalance: 0 per channel, 1 grey, 2 none), the bounces K (0 = 8) and the clusters a
         // receiver's visibility blends L (VisibilityOptions::blend; 0 = 1); P = 1: the near field
         // by square patches (transport/patch_form_factor.h); O > 0: rows sum to each receiver's closure
-        // from O × O rays per cluster centre (VisibilityOptions::open_rays).
+        // from O × O rays per cluster centre (VisibilityOptions::open_rays); T > 0: through the cluster
+        // tree with opening bound T (transport/prior_hierarchy.h).
         std::vector<float> f;
         for (size_t b = 0; b <= n.size();) {
             const size_t e = std::min(n.find(':', b), n.size());
             f.push_back(std::stof(n.substr(b, e - b)));
             b = e + 1;
         }
-        if (f.size() < 2 || f.size() > 10 || (f.size() > 5 && !(f[5] == 0.f || f[5] == 1.f || f[5] == 2.f))) {
-            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]]\n", n.c_str());
+        if (f.size() < 2 || f.size() > 11 || (f.size() > 5 && !(f[5] == 0.f || f[5] == 1.f || f[5] == 2.f))) {
+            std::fprintf(stderr, "prior_ablation: setting '%s': expected H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]]\n", n.c_str());
             return 1;
         }
-        f.resize(10, 0.f);
+        f.resize(11, 0.f);
         settings.push_back({n, f[0], int(f[1]), f[2], f[3] > 0.f ? f[3] : 1.f, f[4], PriorBalance(int(f[5])), f[6] > 0.f ? int(f[6]) : 8,
-                            f[7] > 0.f ? int(f[7]) : 1, f[8] > 0.f, int(f[9])});
+                            f[7] > 0.f ? int(f[7]) : 1, f[8] > 0.f, int(f[9]), f[10]});
     }
     std::vector<Sums> sums(settings.size());
     try {
@@ -143,7 +145,7 @@ int main(int argc, char **argv) {
                 vis.open_rays = settings[s].open_rays;
                 const TransportPrior prior =
                     solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, settings[s].bounces, &sp.emission_scale, vis,
-                                          nullptr, settings[s].balance, settings[s].patches);
+                                          nullptr, settings[s].balance, settings[s].patches, settings[s].theta);
                 std::vector<Vec3f> e(gb.n_hits());
                 gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
                 const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -163,7 +165,7 @@ int main(int argc, char **argv) {
             }
             std::fprintf(stderr, "%s%s: flat %.4f, MSE%s\n", name.c_str(), cached ? " (cached reference)" : "", flat_mse, per_setting.c_str());
         }
-        std::printf("| occlusion H:C[:S[:F[:D[:B[:K[:L[:P[:O]]]]]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none : bounces : blended clusters : patches : open rays) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        std::printf("| occlusion H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none : bounces : blended clusters : patches : open rays : tree opening bound) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
         for (size_t s = 0; s < settings.size(); ++s) {
             const Sums &x = sums[s];
             const double n = std::max(1, x.views);

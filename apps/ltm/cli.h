@@ -95,7 +95,13 @@ struct NeuralRenderArgs {
     int glossy_samples = 0;    ///< GGX samples per conductor pixel (0: automatic)
     std::string glossy = "auto";   ///< conductor shading: auto | trace | head | diffuse (GlossyShading)
     int scene_points = 0;          ///< 0: the model's own M (set_scene_points otherwise)
+    double prior_theta = -1;       ///< < 0: the model's own (set_prior_theta otherwise)
 };
+
+/// `--prior-theta`'s help, shared by render, eval and bake-gi.
+inline constexpr const char *k_prior_theta_help =
+    "The transport prior through its cluster tree with this opening bound (0: the dense rows; 0.5: far light from "
+    "aggregates, O(M log M), needed above 32768 scene points; default: the model's own)";
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
 
 /// `--shard i/N` when given, else a Slurm array task's SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT,

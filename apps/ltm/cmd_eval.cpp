@@ -27,6 +27,7 @@ struct EvalArgs {
     PhysicsCheckOptions physics;
     bool no_grids = false, run_physics = false, physics_only = false, radiance = false;
     int direct_spp = 16, glossy_samples = 0, scene_points = 0;
+    double prior_theta = -1;
 };
 
 void declare(CLI::App &sub, EvalArgs &a) {
@@ -35,6 +36,7 @@ void declare(CLI::App &sub, EvalArgs &a) {
     sub.add_option("--scene-points", a.scene_points,
                    "Scene points every model samples (default: each model's own, 8192 for the shipped one)")
         ->check(CLI::NonNegativeNumber);
+    sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
     sub.add_option("--scenes", a.scenes, "Generator seed ranges A:B and/or scene files (keep seeds disjoint from training)")
         ->required();
     sub.add_option("--gen-config", a.gen_config, "Generator config for seed ranges (default: built-in)");
@@ -87,8 +89,10 @@ void run(const EvalArgs &a, const CommonOptions &common) {
         if (eq == std::string::npos || eq == 0) LTM_THROW("--ablation ", spec, ": expected NAME=weights.safetensors");
         models.push_back({spec.substr(0, eq), spec.substr(eq + 1), load_model(spec.substr(eq + 1)).model});
     }
-    if (a.scene_points > 0)
-        for (auto &m : models) set_scene_points(m.model, a.scene_points);
+    for (auto &m : models) {
+        if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
+        if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
+    }
     // Scenes: seed ranges are generated in memory, files are loaded.
     const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
     std::vector<EvalScene> scenes;

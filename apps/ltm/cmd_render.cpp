@@ -23,6 +23,7 @@ struct RenderArgs {
     int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024, guide_resolution = 16, glossy_samples = 0,
         scene_points = 0;
     float exposure = 1.f, guide_alpha = 0.25f;
+    double prior_theta = -1;
 };
 
 std::string strip_image_extension(std::string p) {
@@ -58,6 +59,7 @@ void declare(CLI::App &sub, RenderArgs &a) {
     sub.add_option("--scene-points", a.scene_points,
                    "Scene points the model samples (neural, guided; default: the model's own, 8192 for the shipped one); more follow finer detail, at ~M^2 time and memory")
         ->check(CLI::NonNegativeNumber);
+    sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
     sub.add_option("--direct-spp", a.direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
         ->capture_default_str();
     sub.add_option("--direct-estimator", a.direct_estimator,
@@ -86,7 +88,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
         if (a.direct_spp <= 0) LTM_THROW("--direct-spp ", a.direct_spp, ": must be > 0");
         run_neural_render(
             {a.scene, a.camera, a.model, prefix, a.width, a.height, a.direct_spp, a.exposure, true, a.gi_stride,
-             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points},
+             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta},
             common);
         return;
     #else
@@ -99,6 +101,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     #endif
     if (!a.model.empty() && a.method != "guided") LTM_THROW("--model is only used with --method neural or guided");
     if (a.scene_points > 0 && a.method == "pathtrace") LTM_THROW("--scene-points is only used with --method neural or guided");
+    if (a.prior_theta >= 0 && a.method == "pathtrace") LTM_THROW("--prior-theta is only used with --method neural or guided");
     if (a.gi_stride != 1) LTM_THROW("--gi-stride is only used with --method neural");
     if (a.direct_estimator != "auto") LTM_THROW("--direct-estimator is only used with --method neural");
     if (a.spp <= 0) LTM_THROW("--spp ", a.spp, ": must be > 0");
@@ -116,6 +119,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     GuideBuild guide;
     if (a.method == "guided") {
         LoadedModel m = load_model(a.model);
+        if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
         if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
         GuideBuildOptions go;
         go.points = a.guide_points, go.resolution = a.guide_resolution, go.seed = common.seed;

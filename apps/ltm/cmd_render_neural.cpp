@@ -12,6 +12,7 @@ namespace ltm::cli {
 
 void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     LoadedModel m = load_model(a.model);
+    if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
     if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
     if (glossy == GlossyShading::head && !m.model->directional)

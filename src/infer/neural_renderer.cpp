@@ -306,10 +306,22 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
 void set_scene_points(LtmModel &model, int64_t n) {
     if (n < k_min_scene_points)
         LTM_THROW("--scene-points ", n, ": below the minimum of ", k_min_scene_points, " (the decoder's neighbourhoods need more points)");
-    if (n > k_max_scene_points)
+    const bool tree = model->cfg.physics.prior_theta > 0.f;
+    if (tree && n > k_max_scene_points_tree)
+        LTM_THROW("--scene-points ", n, ": above the limit of ", k_max_scene_points_tree, " with the prior's tree (~1 KB per point: ",
+                  double(n) * 1024.0 / double(1 << 30), " GiB here)");
+    if (!tree && n > k_max_scene_points)
         LTM_THROW("--scene-points ", n, ": above the limit of ", k_max_scene_points, " (the transport prior's dense solve holds ~4·M² bytes: ",
-                  double(n) * double(n) * 4.0 / double(1 << 30), " GiB here)");
+                  double(n) * double(n) * 4.0 / double(1 << 30), " GiB here; --prior-theta 0.5 solves through a tree up to ",
+                  k_max_scene_points_tree, ")");
     model->cfg.scene_points = int(n);
+}
+
+void set_prior_theta(LtmModel &model, double theta) {
+    if (!(theta >= 0.0 && theta <= 1.0)) LTM_THROW("--prior-theta ", theta, ": must be in [0, 1] (0: the dense rows)");
+    if (model->cfg.physics.prior_field != "transport")
+        LTM_THROW("--prior-theta: the model's prior is \"", model->cfg.physics.prior_field, "\", not the transport prior");
+    model->cfg.physics.prior_theta = float(theta);
 }
 
 }  // namespace ltm

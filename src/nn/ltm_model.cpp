@@ -93,7 +93,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
                               physics.prior_balance == "none"   ? PriorBalance::none
                               : physics.prior_balance == "grey" ? PriorBalance::grey
                                                                 : PriorBalance::per_channel,
-                              physics.prior_patches));
+                              physics.prior_patches, physics.prior_theta));
 }
 
 // output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]
@@ -200,21 +200,37 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     // (Non-finite scene points take the network's path, which reports them.)
-    if (fold_prior && !torch::GradMode::is_enabled() && !directional && decoder->at_prior() &&
-        torch::isfinite(scene_points).all().item<bool>()) {
-        // The decoder's output does not depend on the latents (fold_prior in the header).
-        out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
-        return out;
-    }
     if (cfg.prior_inputs) {
         if (!out.norm.point_prior.defined()) LTM_THROW("encode: the given frame has no point_prior (make it with scene_frame)");
         TORCH_CHECK(out.norm.point_prior.dim() == 2 && out.norm.point_prior.size(0) == x.size(0) && out.norm.point_prior.size(1) == 3,
                     "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", out.norm.point_prior.sizes());
         x = torch::cat({x, prior_features(out.norm.point_prior, out.norm)}, 1);   // [M, 15]
     }
+    if (fold_prior && !torch::GradMode::is_enabled() && decoder->at_prior() && torch::isfinite(scene_points).all().item<bool>()) {
+        // The decoder's output does not depend on the latents (fold_prior in the header); only a
+        // directional head reads them, and only when asked.
+        if (!directional) {
+            out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
+        } else {
+            out.deferred = std::make_shared<SceneLatents::Deferred>();
+            out.deferred->x = x, out.deferred->centers = geometry.centers, out.deferred->groups = geometry.groups;
+        }
+        return out;
+    }
     const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
     out.features = encoder->forward(tokens, out.anchors);                         // [m, C]
     return out;
+}
+
+torch::Tensor LtmModelImpl::features(const SceneLatents &latents) {
+    if (latents.features.defined() || !latents.deferred) return latents.features;
+    SceneLatents::Deferred &d = *latents.deferred;
+    const std::lock_guard<std::mutex> lock(d.mutex);
+    if (!d.features.defined()) {
+        torch::NoGradGuard no_grad;
+        d.features = encoder->forward(embedding->forward(d.x, d.centers, d.groups), latents.anchors);   // [m, C]
+    }
+    return d.features;
 }
 
 torch::Tensor LtmModelImpl::query_inputs(const torch::Tensor &query_points, const SceneNormalization &norm,
@@ -231,7 +247,7 @@ torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const Scen
     const auto q = query_inputs(query_points, latents.norm, scale);
     const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
-    return decoder->forward(q, latents.features, latents.anchors, idx);
+    return decoder->forward(q, features(latents), latents.anchors, idx);
 }
 
 torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
@@ -251,9 +267,10 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
     }
     std::optional<FusedDecoder> fused;
-    if (fused_inference && cfg.decoder.type == "attention" && query_points.is_cpu() && latents.features.is_cpu()) {
+    const torch::Tensor feats = features(latents);
+    if (fused_inference && cfg.decoder.type == "attention" && query_points.is_cpu() && feats.is_cpu()) {
         fused.emplace(*decoder);   // rebuilt per call: ~0.1 M floats, negligible next to decoding
-        fused->prepare(latents.features);
+        fused->prepare(feats);
     }
     std::vector<torch::Tensor> parts;
     for (int64_t s = 0; s < query_points.size(0); s += chunk) {
@@ -298,7 +315,7 @@ torch::Tensor LtmModelImpl::decode_radiance(const torch::Tensor &query_points, c
     }
     const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
-    return directional->forward(q, direction, latents.features, latents.anchors, idx);
+    return directional->forward(q, direction, features(latents), latents.anchors, idx);
 }
 
 torch::Tensor LtmModelImpl::predict_radiance(const torch::Tensor &query_points, const torch::Tensor &direction,

@@ -72,6 +72,8 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_patches", &C::prior_patches, "the transport prior's near field by the exact form factors of square patches (else the point formula)")
             .omit_default()
             .field("prior_open_rays", &C::prior_open_rays, "rows of the transport prior sum to each receiver's closure from R x R rays per occlusion cluster against the discs (0 = every receiver closed)", between(0, 64))
+            .omit_default()
+            .field("prior_theta", &C::prior_theta, "the transport prior through its cluster tree with this opening bound (0 = the dense rows)", between(0, 1))
             .omit_default();
     return f;
 }

@@ -236,6 +236,15 @@ int ClusterVisibility::receiver_clusters(Vec3f p, Vec3f n, uint32_t *ids, float 
     return 1;
 }
 
+void ClusterVisibility::blend_rows(const uint32_t *ids, const float *w, int K, float *out) const {
+    const size_t C = size();
+    std::fill(out, out + C, 0.f);
+    for (int k = 0; k < K; ++k) {
+        const uint8_t *row = visible.data() + size_t(ids[k]) * C;
+        for (size_t c = 0; c < C; ++c) out[c] += w[k] * float(row[c]);
+    }
+}
+
 std::vector<float> cluster_closure(const ClusterVisibility &vis, const DiscOccluder &discs, int rays) {
     if (discs.empty()) LTM_THROW("cluster closure: needs the points as discs (prior_discs > 0)");
     if (rays < 1 || rays > 256) LTM_THROW("cluster closure: rays per side must be in [1, 256], got ", rays);

@@ -2,6 +2,7 @@
 #include "ltm/transport/transport_prior.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -101,11 +102,8 @@ struct ReceiverView {
     void set(const ClusterVisibility &vis, const ClusterOrder &co, const uint32_t *ids, const float *w, int K) {
         const size_t C = vis.size();
         closure = vis.closure_of(ids, w, K);
-        weight.assign(C, 0.f);
-        for (int k = 0; k < K; ++k) {
-            const uint8_t *row = vis.visible.data() + size_t(ids[k]) * C;
-            for (size_t c = 0; c < C; ++c) weight[c] += w[k] * float(row[c]);
-        }
+        weight.resize(C);
+        vis.blend_rows(ids, w, K, weight.data());
         runs.clear();
         for (size_t c = 0; c < C; ++c) {
             const size_t lo = co.seg[c], hi = co.seg[c + 1];
@@ -192,25 +190,13 @@ struct PlacedNodes {
 
 }  // namespace
 
-TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
-                                     const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
-                                     float node_area, int bounces, ClusterVisibility visibility, PriorBalance balance,
-                                     bool patches) {
+namespace {
+// The dense solve: every node's row of Ĝ stored (sparse by what it sees), D sparse products.
+// -> Σ_{k=1..D} B_k per node (caller's order); mean_e: the area mean of E⁺ at the nodes.
+std::vector<Vec3f> dense_bounces(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
+                                 const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance, float node_area,
+                                 int bounces, const ClusterVisibility &vis, bool patches, bool want_mean, Vec3f &mean_e) {
     const size_t m = position.size();
-    if (m == 0) LTM_THROW("transport prior: no nodes");
-    if (normal.size() != m || albedo.size() != m || radiance.size() != m)
-        LTM_THROW("transport prior: ", m, " positions but ", normal.size(), " normals, ", albedo.size(), " albedos, ",
-                  radiance.size(), " radiances");
-    if (!(node_area > 0.f) || !std::isfinite(node_area)) LTM_THROW("transport prior: node area must be > 0, got ", node_area);
-    if (bounces < 0) LTM_THROW("transport prior: bounces must be >= 0, got ", bounces);
-    if (!visibility.empty() && visibility.node_cluster.size() != m)
-        LTM_THROW("transport prior: visibility for ", visibility.node_cluster.size(), " nodes, not ", m);
-    TransportPrior out;
-    out.position = position, out.normal = normal, out.area = node_area, out.patches = patches;
-    out.visibility = std::move(visibility);
-    const ClusterVisibility &vis = out.visibility;
-    out.exitance.assign(m, Vec3f(0.f));
-    if (bounces == 0) return out;
     // Everything in cluster order (places): a node's row is then the runs of places it sees, and
     // the transport Ĝ is stored sparse — only what each node sees (about a room's worth of a house).
     const PlacedNodes nodes(position, normal, vis, node_area, patches);
@@ -256,18 +242,125 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
             for (size_t j = 0; j < m; ++j) ex[c][j] += bk[c][j];
         }
     }
+    mean_e = Vec3f(0.f);
+    if (want_mean)
+        for (size_t i = 0; i < m; ++i)
+            for (int c = 0; c < 3; ++c) mean_e[c] += sparse_dot(g[i].data(), g_runs[i], ex[c].data()) / float(m);
+    std::vector<Vec3f> out(m);
+    for (size_t j = 0; j < m; ++j)
+        for (int c = 0; c < 3; ++c) out[co.order[j]][c] = ex[c][j];
+    return out;
+}
+
+// A receiver's blended clusters and their weights, as the dense rows' ReceiverView decides them: a
+// node of the solve (own) with blend 1 takes its own cluster. Returns the closure.
+struct BlendedView {
+    uint32_t ids[ClusterVisibility::k_candidates];
+    float w[ClusterVisibility::k_candidates];
+    PriorTree::View view;
+    float set(const ClusterVisibility &vis, Vec3f p, Vec3f n, const uint32_t *own) {
+        view = {};
+        if (vis.empty()) return 1.f;
+        int K = 1;
+        if (own && vis.blend <= 1) ids[0] = *own, w[0] = 1.f;
+        else K = vis.receiver_clusters(p, n, ids, w);
+        view = {ids, w, K};
+        return vis.closure_of(ids, w, K);
+    }
+};
+
+// The hierarchical solve (transport/prior_hierarchy.h): each bounce gathers B_k at every node
+// through the tree, Ĝ never stored densely. The first pass records each node's row (its aggregates'
+// and exact terms: ~10 KB a node in a house at M = 65 536) while they fit in k_row_budget, and the
+// later bounces apply the recorded rows instead of walking the tree again; rows beyond the budget
+// are walked again. The result is the same either way. Same outputs as dense_bounces.
+constexpr size_t k_row_budget = size_t(512) << 20;
+
+std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
+                                const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance, int bounces,
+                                const ClusterVisibility &vis, bool want_mean, Vec3f &mean_e) {
+    const size_t m = position.size();
+    std::vector<double> den(m, 0.0);
+    std::vector<float> closure(m, 1.f);
+    std::vector<Vec3f> bk(m), ex(m, Vec3f(0.f)), next(m), at_node(m);
+    for (size_t j = 0; j < m; ++j) bk[j] = radiance[j] * float(k_pi);
+    std::vector<PriorTree::Row> rows(m);
+    std::vector<uint8_t> kept(m, 0);
+    std::atomic<size_t> kept_bytes{0};
+    // One pass: every node's row against the values x; the first also keeps each row's sum and
+    // closure and records the rows.
+    auto pass = [&](const std::vector<Vec3f> &x, bool first, std::vector<Vec3f> &gathered) {
+        const PriorTree::Sums sums = tree.sums(x);
+        parallel_for(0, int64_t(m), 16, [&](int64_t b, int64_t e) {
+            PriorTree::Scratch scratch;
+            BlendedView bv;
+            for (int64_t i = b; i < e; ++i) {
+                const size_t j = size_t(i);
+                double num[3];
+                if (kept[j]) {
+                    tree.apply(rows[j], sums, num);
+                } else {
+                    const float c = bv.set(vis, position[j], normal[j], vis.empty() ? nullptr : &vis.node_cluster[j]);
+                    if (first) closure[j] = c;
+                    tree.record(position[j], normal[j], bv.view, scratch.row, scratch);
+                    tree.apply(scratch.row, sums, num);
+                    if (first) {
+                        den[j] = scratch.row.den;
+                        const size_t bytes = scratch.row.bytes();
+                        if (kept_bytes.fetch_add(bytes) + bytes <= k_row_budget) rows[j] = scratch.row, kept[j] = 1;
+                    }
+                }
+                for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
+            }
+        });
+    };
+    for (int k = 0; k < bounces; ++k) {
+        pass(bk, k == 0, next);
+        for (size_t j = 0; j < m; ++j) bk[j] = albedo[j] * next[j], ex[j] += bk[j];
+    }
+    mean_e = Vec3f(0.f);
+    if (want_mean) {
+        pass(ex, false, at_node);
+        for (size_t j = 0; j < m; ++j) mean_e += at_node[j] / float(m);
+    }
+    return ex;
+}
+}  // namespace
+
+TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
+                                     const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
+                                     float node_area, int bounces, ClusterVisibility visibility, PriorBalance balance,
+                                     bool patches, float theta) {
+    const size_t m = position.size();
+    if (m == 0) LTM_THROW("transport prior: no nodes");
+    if (normal.size() != m || albedo.size() != m || radiance.size() != m)
+        LTM_THROW("transport prior: ", m, " positions but ", normal.size(), " normals, ", albedo.size(), " albedos, ",
+                  radiance.size(), " radiances");
+    if (!(node_area > 0.f) || !std::isfinite(node_area)) LTM_THROW("transport prior: node area must be > 0, got ", node_area);
+    if (bounces < 0) LTM_THROW("transport prior: bounces must be >= 0, got ", bounces);
+    if (!(theta >= 0.f) || !(theta <= 1.f)) LTM_THROW("transport prior: theta must be in [0, 1], got ", theta);
+    if (!visibility.empty() && visibility.node_cluster.size() != m)
+        LTM_THROW("transport prior: visibility for ", visibility.node_cluster.size(), " nodes, not ", m);
+    TransportPrior out;
+    out.position = position, out.normal = normal, out.area = node_area, out.patches = patches;
+    out.visibility = std::move(visibility);
+    const ClusterVisibility &vis = out.visibility;
+    if (theta > 0.f) out.tree = std::make_shared<const PriorTree>(position, normal, vis, node_area, patches, theta);
+    out.exitance.assign(m, Vec3f(0.f));
+    if (bounces == 0) return out;
+    const bool balanced = !vis.empty() && balance != PriorBalance::none;
+    Vec3f mean_e(0.f);
+    std::vector<Vec3f> ex = out.tree ? tree_bounces(*out.tree, position, normal, albedo, radiance, bounces, vis, balanced, mean_e)
+                                     : dense_bounces(position, normal, albedo, radiance, node_area, bounces, vis, patches, balanced, mean_e);
     Vec3f gain(1.f);
-    if (!vis.empty() && balance != PriorBalance::none) {
+    if (balanced) {
         // Approximate occlusion breaks the closure that keeps power balanced: a falsely blocked far
         // node drops out of a row, the near ones gain, and the lit rooms recirculate too much light
         // (validation views: level 1.19). Restore the enclosure's balance per channel: the area mean
         // of E⁺ at the nodes (equal areas) is π L̄_c Σ_{k=1..D} ρ̄_c^k, as in a closed box (exact in
         // the furnace; transport/power_balance.h).
-        Vec3f mean_e(0.f), mean_rho(0.f), mean_le(0.f);
-        for (size_t i = 0; i < m; ++i) {
-            for (int c = 0; c < 3; ++c) mean_e[c] += sparse_dot(g[i].data(), g_runs[i], ex[c].data()) / float(m);
-            mean_rho += albedo[i] / float(m), mean_le += radiance[i] / float(m);
-        }
+        Vec3f mean_rho(0.f), mean_le(0.f);
+        for (size_t i = 0; i < m; ++i) mean_rho += albedo[i] / float(m), mean_le += radiance[i] / float(m);
         Vec3f target(0.f);
         for (int c = 0; c < 3; ++c) {
             const double t = k_pi * double(mean_le[c]) * bounce_series(double(mean_rho[c]), bounces);
@@ -277,14 +370,13 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         if (balance == PriorBalance::grey)   // one gain: the luminance's
             gain = Vec3f(luminance(mean_e) > 0.f ? luminance(target) / luminance(mean_e) : 0.f);
     }
-    for (size_t j = 0; j < m; ++j)
-        for (int c = 0; c < 3; ++c) out.exitance[co.order[j]][c] = ex[c][j] * gain[c];
+    for (size_t j = 0; j < m; ++j) out.exitance[j] = ex[j] * gain;
     return out;
 }
 
 TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bounces, const Vec3f *emission_scale,
                                      const VisibilityOptions &vis, const PointSet *occupancy, PriorBalance balance,
-                                     bool patches) {
+                                     bool patches, float theta) {
     if (sp.columns != scene_point_columns()) LTM_THROW("transport prior: not a scene point table");
     const size_t m = sp.size();
     std::vector<Vec3f> p(m), n(m), rho(m), le(m);
@@ -334,7 +426,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     if (vis.open_rays > 0 && v.closure.empty()) LTM_THROW("transport prior: open_rays needs occlusion by discs");
     v.blend = vis.blend;
     const auto t1 = Clock::now();
-    TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches);
+    TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches, theta);
     log_debug("transport prior: ", m, " nodes; spacing ", t_spacing, " s, clusters and visibility ",
               std::chrono::duration<double>(t1 - t0).count() - t_spacing, " s, solve ",
               std::chrono::duration<double>(Clock::now() - t1).count(), " s");
@@ -346,6 +438,23 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
     if (stride < 3) LTM_THROW("transport prior: row stride ", stride, " < 3");
     const size_t m = prior.position.size();
     const ClusterVisibility &vis = prior.visibility;
+    if (prior.tree) {   // through the cluster tree: far nodes as aggregates
+        const PriorTree::Sums sums = prior.tree->sums(prior.exitance);
+        parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
+            PriorTree::Scratch scratch;
+            BlendedView bv;
+            for (int64_t q = b; q < e; ++q) {
+                const float *pp = position + size_t(q) * stride, *pn = normal + size_t(q) * stride;
+                const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
+                const float closure = bv.set(vis, p, nq, nullptr);
+                double den, num[3];
+                prior.tree->row(p, nq, bv.view, &sums, den, num, scratch);
+                float *o = out + size_t(q) * 3;
+                for (int k = 0; k < 3; ++k) o[k] = den > 0 ? float(double(closure) * num[k] / den) : 0.f;
+            }
+        });
+        return;
+    }
     // Nodes in cluster order: a receiver visits the runs of clusters it sees and skips the rest.
     const PlacedNodes nodes(prior.position, prior.normal, vis, prior.area, prior.patches);
     const ClusterOrder &co = nodes.co;

@@ -187,3 +187,29 @@ TEST(DirectionalHead, StartsAsTheDirectionalTransportPrior) {
     j["physics"].erase("prior_blend"), j["physics"].erase("prior_patches"), j["physics"].erase("prior_nodes");
     EXPECT_THROW(ModelConfig::from_json(j, "t"), Error);
 }
+
+// A model at its prior with a directional head defers its encoder (the irradiance never reads the
+// features): encode() leaves them undefined, the first radiance query runs the encoder once, and the
+// radiance is the unfolded model's exactly.
+TEST(DirectionalHead, AtThePriorTheEncoderRunsOnlyWhenTheHeadAsks) {
+    Fixture f;
+    LtmModel m = random_head(f.cfg, 3);
+    m->decoder->start_at_prior();
+    ASSERT_TRUE(m->decoder->at_prior());
+    torch::NoGradGuard no_grad;
+    const SceneGeometry g = m->scene_geometry(f.sp);
+    const SceneLatents folded = m->encode(f.sp, g);
+    EXPECT_FALSE(folded.features.defined()) << "deferred";
+    ASSERT_TRUE(folded.deferred);
+    const auto e = m->predict_irradiance(f.qp, folded);
+    EXPECT_FALSE(folded.deferred->features.defined()) << "the irradiance does not run the encoder";
+    const auto d = f.directions(0.5);
+    const auto lazy = m->predict_radiance(f.qp, d, folded);
+    EXPECT_TRUE(folded.deferred->features.defined());
+    m->fold_prior = false;
+    const SceneLatents full = m->encode(f.sp, g);
+    ASSERT_TRUE(full.features.defined());
+    EXPECT_TRUE(torch::equal(m->features(folded), full.features));
+    EXPECT_TRUE(torch::allclose(m->predict_radiance(f.qp, d, full), lazy, 1e-6, 0.0));
+    EXPECT_TRUE(torch::allclose(m->predict_irradiance(f.qp, full), e, 1e-6, 0.0));
+}

@@ -27,12 +27,18 @@ LoadedModel load_model(const std::string &path);
 /// Bounds of set_scene_points(): the transport prior's dense solve holds ~4·M² bytes of transfer
 /// (transport/transport_prior.h; measured peak 1.0 GB at M = 16 384), so M stops at 32 768 (~4 GiB);
 /// below 256 the decoder's neighbourhoods and the prior's clusters have too few points.
-inline constexpr int64_t k_min_scene_points = 256, k_max_scene_points = 32768;
+/// Through the prior's cluster tree (physics.prior_theta > 0) memory is linear in M (~1 KB per scene
+/// point in all, measured in docs/performance.md), so the bound is k_max_scene_points_tree.
+inline constexpr int64_t k_min_scene_points = 256, k_max_scene_points = 32768, k_max_scene_points_tree = 262144;
 /// Makes the model sample n scene points instead of the M it was trained with (`--scene-points`):
 /// the encoder and the prior adapt to any count (they measure the points' spacing), so n only trades
 /// time and memory for detail. Throws a one-line error naming the bound, before any allocation, if n is
 /// outside [k_min_scene_points, k_max_scene_points].
 void set_scene_points(LtmModel &model, int64_t n);
+/// Makes the model's transport prior go through its cluster tree with opening bound theta (0: the
+/// dense rows; `--prior-theta`, transport/prior_hierarchy.h). Call before set_scene_points (its bound
+/// depends on it). Throws a one-line error for theta outside [0, 1] or a model without the transport prior.
+void set_prior_theta(LtmModel &model, double theta);
 
 struct EncodedScene {
     SceneLatents latents;

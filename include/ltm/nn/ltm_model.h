@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <memory>
 
+#include <memory>
+#include <mutex>
+
 #include <torch/torch.h>
 
 #include "ltm/nn/directional_decoder.h"
@@ -43,9 +46,18 @@ struct SceneNormalization {
 
 /// What the encoder leaves for the decoder.
 struct SceneLatents {
-    torch::Tensor features;  ///< [m, C]
+    torch::Tensor features;  ///< [m, C]; undefined while deferred (LtmModelImpl::features runs the encoder then)
     torch::Tensor anchors;   ///< [m, 3] anchor positions in the normalised frame ((p − centre) / ℓ)
     SceneNormalization norm; ///< the frame the anchors and every query are expressed in
+    /// The encoder's inputs when its run is deferred: a model at its prior with a directional head
+    /// (fold_prior), whose features only the head reads — and most frames never call it (a scene
+    /// without conductors, `--glossy trace`). Shared, so copies of the latents compute them once.
+    struct Deferred {
+        torch::Tensor x, centers, groups;   ///< [M, 12 or 15] normalised points, the FPS centres and groups
+        torch::Tensor features;             ///< [m, C] once computed
+        std::mutex mutex;
+    };
+    std::shared_ptr<Deferred> deferred;
 };
 
 /// The scene's normalisation (ARCHITECTURE.md §6, PhysicsConfig).
@@ -110,6 +122,8 @@ struct LtmModelImpl : torch::nn::Module {
     torch::Tensor predict_radiance(const torch::Tensor &query_points, const torch::Tensor &direction,
                                    const SceneLatents &latents, int64_t chunk = 2048);
     int64_t n_parameters() const;
+    /// The latents' features [m, C]: latents.features, or the deferred encoder run (computed once).
+    torch::Tensor features(const SceneLatents &latents);
 
     ModelConfig cfg;
     NNEmbedding embedding{nullptr};
@@ -119,7 +133,8 @@ struct LtmModelImpl : torch::nn::Module {
     bool fused_inference = true;   ///< predict_irradiance on CPU uses FusedDecoder (false: libtorch modules)
     /// Constant folding of a model that is its prior (decoder->at_prior(): the output layer exactly
     /// zero, as --start-at-prior leaves it): without autograd, encode() skips the embedding and encoder (features
-    /// = zeros; no directional head to feed) and predict_irradiance() skips kNN and the decoder,
+    /// = zeros without a directional head; with one, deferred until the head asks: SceneLatents::Deferred)
+    /// and predict_irradiance() skips kNN and the decoder,
     /// whose output is then softplus(0) whatever its input. Same numbers, ~1.5 s less per 512²
     /// frame (docs/performance.md). false: always run the network.
     bool fold_prior = true;

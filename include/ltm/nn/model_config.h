@@ -140,8 +140,12 @@ struct PhysicsConfig {
     /// discs (VisibilityOptions::open_rays) — instead of 1, so light that leaves through an open
     /// side or a window to nothing leaves the solve. 0 = every receiver closed (v0.11). Needs prior_discs > 0.
     int prior_open_rays = 0;
+    /// θ > 0: the transport prior's solve and gather go through its cluster tree with this opening
+    /// bound (transport/prior_hierarchy.h: far nodes as aggregates, O(M log M)); 0 = the dense rows.
+    /// A run-time setting, not a trained one: `ltm render --prior-theta` overrides it.
+    float prior_theta = 0.f;
 
-    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1, false, 0}; }
+    static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1, false, 0, 0.f}; }
     /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.
     static const ConfigFields<PhysicsConfig> &fields();
     bool any() const { return emission_scale || length_scale || prior_bounces > 0 || translation_invariant; }

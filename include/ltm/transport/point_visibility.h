@@ -128,6 +128,9 @@ struct ClusterVisibility {
     /// Is the segment between two surface points (a, normal na) and (b, nb) blocked? Against the
     /// discs when there are any, else against the voxels with both ends lifted h/2 along their normals.
     bool blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const;
+    /// The weight of every cluster for a receiver that blends clusters ids[0..K) with weights w:
+    /// out[c] = Σ_k w_k V(ids_k, c), out [C].
+    void blend_rows(const uint32_t *ids, const float *w, int K, float *out) const;
     /// The closure of a receiver that blends clusters ids[0..K) with weights w: Σ_k w_k c(ids_k),
     /// 1 without closures.
     float closure_of(const uint32_t *ids, const float *w, int K) const {

@@ -44,11 +44,13 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "ltm/core/math.h"
 #include "ltm/points/point_set.h"
 #include "ltm/transport/point_visibility.h"
+#include "ltm/transport/prior_hierarchy.h"
 
 namespace ltm {
 
@@ -65,16 +67,22 @@ struct TransportPrior {
     ClusterVisibility visibility;          ///< empty: no occlusion
     /// Near field by square patches (solve_transport_prior's `patches`): the gather uses it too.
     bool patches = false;
+    /// The hierarchy (solve_transport_prior's theta > 0): the solve and the irradiance gather go
+    /// through it (transport/prior_hierarchy.h); null: the dense rows.
+    std::shared_ptr<const PriorTree> tree;
 };
 
 /// Solves D bounces among m nodes. position/normal/albedo/radiance: m entries each; node_area > 0.
-/// O(m²) time and floats of memory for the transport at most (m = 4 096: 64 MiB; with occlusion
-/// each node stores only the clusters it sees). Deterministic at any
-/// thread count. Throws ltm::Error on mismatched sizes, no nodes, node_area ≤ 0 or bounces < 0.
+/// theta = 0: the dense rows, O(m²) time and floats of memory for the transport at most (m = 4 096:
+/// 64 MiB; with occlusion each node stores only the clusters it sees). theta in (0, 1]: through the
+/// cluster tree (transport/prior_hierarchy.h) with that opening bound, O(m log m) per bounce, O(m)
+/// memory; the gather then uses the tree too. Deterministic at any thread count. Throws ltm::Error
+/// on mismatched sizes, no nodes, node_area ≤ 0, bounces < 0 or theta outside [0, 1].
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
                                      float node_area, int bounces, ClusterVisibility visibility = {},
-                                     PriorBalance balance = PriorBalance::per_channel, bool patches = false);
+                                     PriorBalance balance = PriorBalance::per_channel, bool patches = false,
+                                     float theta = 0.f);
 
 /// Every scene point a node: scene_points [M, 12] (scene_point_columns()), node_area = A / M. With
 /// `emission_scale` (S_c = Φ_c/A, exact from the meshes) the points' radiance is rescaled per
@@ -83,12 +91,12 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
 TransportPrior solve_transport_prior(const PointSet &scene_points, float node_area, int bounces,
                                      const Vec3f *emission_scale = nullptr, const VisibilityOptions &vis = {},
                                      const PointSet *occupancy = nullptr, PriorBalance balance = PriorBalance::per_channel,
-                                     bool patches = false);
+                                     bool patches = false, float theta = 0.f);
 
 /// E⁺ at n receivers: position and normal as float arrays [n, 3] (any stride ≥ 3 floats between
 /// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m) at most: with
 /// occlusion the nodes are visited cluster by cluster and the clusters a receiver does not see are
-/// skipped. Deterministic at any thread count.
+/// skipped; with the prior's tree O(n log m). Deterministic at any thread count.
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
                             size_t n, float *out);
 

@@ -1,0 +1,376 @@
+// prior_hierarchy.cpp: the cluster tree of the transport prior and a receiver's row through it
+// (criteria and equations in the header).
+#include "ltm/transport/prior_hierarchy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "ltm/core/error.h"
+#include "ltm/transport/patch_form_factor.h"
+
+namespace ltm {
+
+namespace {
+constexpr uint32_t k_leaf = 8;   // nodes per leaf at most
+// Aggregates only over nearly flat subtrees: with normals that differ, Σ_j (n·e_j)(n_j·d) and
+// Σ_j n_j·e_j are first order in R/|d| (two walls of a corner), beyond what N and the second moment carry.
+constexpr float k_flat_cos = 0.9553365f;   // cos 0.3
+
+// Which way a normal faces most: 2a for +axis a, 2a + 1 for −axis a.
+int facing_class(Vec3f n) {
+    const float ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
+    const int a = ax >= ay && ax >= az ? 0 : ay >= az ? 1 : 2;
+    return 2 * a + (n[a] < 0.f ? 1 : 0);
+}
+
+// Splits items[lo, hi) (≥ 2) into two non-empty halves and returns the first place of the second.
+// Items facing several ways are sorted by facing (then by index) and cut at the class boundary
+// nearest the middle; items facing one way at the median of their longest extent (ties by index).
+template <class PosOf, class NrmOf>
+uint32_t split(std::vector<uint32_t> &items, uint32_t lo, uint32_t hi, PosOf pos, NrmOf nrm) {
+    const auto first = items.begin() + lo, last = items.begin() + hi;
+    const int c0 = facing_class(nrm(items[lo]));
+    if (std::any_of(first, last, [&](uint32_t i) { return facing_class(nrm(i)) != c0; })) {
+        std::sort(first, last, [&](uint32_t a, uint32_t b) {
+            const int ca = facing_class(nrm(a)), cb = facing_class(nrm(b));
+            return ca != cb ? ca < cb : a < b;
+        });
+        uint32_t best = lo, mid2 = lo + hi;   // compare 2·place with lo + hi: no rounding
+        for (uint32_t k = lo + 1; k < hi; ++k)
+            if (facing_class(nrm(items[k])) != facing_class(nrm(items[k - 1])) &&
+                (best == lo || std::abs(int64_t(2 * k) - int64_t(mid2)) < std::abs(int64_t(2 * best) - int64_t(mid2))))
+                best = k;
+        return best;
+    }
+    Vec3f bmin(std::numeric_limits<float>::infinity()), bmax(-std::numeric_limits<float>::infinity());
+    for (auto it = first; it != last; ++it) bmin = min(bmin, pos(*it)), bmax = max(bmax, pos(*it));
+    const Vec3f ext = bmax - bmin;
+    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : ext.y >= ext.z ? 1 : 2;
+    const uint32_t mid = lo + (hi - lo) / 2;
+    std::nth_element(first, items.begin() + mid, last, [&](uint32_t a, uint32_t b) {
+        const float pa = pos(a)[axis], pb = pos(b)[axis];
+        return pa != pb ? pa < pb : a < b;
+    });
+    return mid;
+}
+}  // namespace
+
+PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal, const ClusterVisibility &vis,
+                     float node_area, bool patches, float theta) {
+    const size_t m = position.size();
+    if (normal.size() != m) LTM_THROW("prior tree: ", m, " positions but ", normal.size(), " normals");
+    if (!(theta >= 0.f) || !std::isfinite(theta)) LTM_THROW("prior tree: theta must be >= 0, got ", theta);
+    if (!(node_area > 0.f)) LTM_THROW("prior tree: node area must be > 0, got ", node_area);
+    if (!vis.empty() && vis.node_cluster.size() != m) LTM_THROW("prior tree: visibility for ", vis.node_cluster.size(), " nodes, not ", m);
+    m_theta = theta, m_reg = node_area / float(k_pi), m_side = std::sqrt(node_area), m_patches = patches;
+    m_coplanar = 1e-3f * m_side;
+    m_clusters = vis.empty() ? 1 : vis.size();
+    if (m == 0) return;
+    // Each cluster's nodes, in node order.
+    std::vector<std::vector<uint32_t>> members(m_clusters);
+    for (size_t j = 0; j < m; ++j) members[vis.empty() ? 0 : vis.node_cluster[j]].push_back(uint32_t(j));
+    // The clusters' centroids and normal sums: how the level above them is split.
+    std::vector<Vec3f> cpos(m_clusters, Vec3f(0.f)), cnrm(m_clusters, Vec3f(0.f));
+    std::vector<uint32_t> clusters;
+    for (size_t c = 0; c < m_clusters; ++c) {
+        if (members[c].empty()) continue;
+        for (uint32_t j : members[c]) cpos[c] += position[j] / float(members[c].size()), cnrm[c] += normal[j];
+        clusters.push_back(uint32_t(c));
+    }
+    m_tree.reserve(2 * m / k_leaf + 2 * clusters.size() + 8);
+    m_place_node.reserve(m);
+    // Recursive, preorder (a node is appended before its children).
+    auto node_pos = [&](uint32_t j) { return position[j]; };
+    auto node_nrm = [&](uint32_t j) { return normal[j]; };
+    std::function<int32_t(std::vector<uint32_t> &, uint32_t, uint32_t, int32_t)> build_nodes =
+        [&](std::vector<uint32_t> &items, uint32_t lo, uint32_t hi, int32_t cluster) -> int32_t {
+        const int32_t t = int32_t(m_tree.size());
+        m_tree.emplace_back();
+        m_tree[size_t(t)].cluster = cluster;
+        if (hi - lo <= k_leaf) {
+            m_tree[size_t(t)].lo = uint32_t(m_place_node.size());
+            for (uint32_t k = lo; k < hi; ++k) m_place_node.push_back(items[k]);
+            m_tree[size_t(t)].hi = uint32_t(m_place_node.size());
+            return t;
+        }
+        const uint32_t mid = split(items, lo, hi, node_pos, node_nrm);
+        const int32_t a = build_nodes(items, lo, mid, cluster), b = build_nodes(items, mid, hi, cluster);
+        m_tree[size_t(t)].child[0] = a, m_tree[size_t(t)].child[1] = b;
+        m_tree[size_t(t)].lo = m_tree[size_t(a)].lo, m_tree[size_t(t)].hi = m_tree[size_t(b)].hi;
+        return t;
+    };
+    m_cluster_seq.clear();
+    std::function<int32_t(uint32_t, uint32_t)> build_clusters = [&](uint32_t lo, uint32_t hi) -> int32_t {
+        if (hi - lo == 1) {
+            const uint32_t c = clusters[lo];
+            const int32_t t = build_nodes(members[c], 0, uint32_t(members[c].size()), int32_t(c));
+            m_tree[size_t(t)].clo = uint32_t(m_cluster_seq.size()), m_tree[size_t(t)].chi = m_tree[size_t(t)].clo + 1;
+            m_cluster_seq.push_back(c);
+            m_upper.push_back(uint32_t(t));
+            return t;
+        }
+        const int32_t t = int32_t(m_tree.size());
+        m_tree.emplace_back();
+        m_upper.push_back(uint32_t(t));
+        const uint32_t mid = split(clusters, lo, hi, [&](uint32_t c) { return cpos[c]; }, [&](uint32_t c) { return cnrm[c]; });
+        const int32_t a = build_clusters(lo, mid), b = build_clusters(mid, hi);
+        Node &s = m_tree[size_t(t)];
+        s.child[0] = a, s.child[1] = b;
+        s.lo = m_tree[size_t(a)].lo, s.hi = m_tree[size_t(b)].hi;
+        s.clo = m_tree[size_t(a)].clo, s.chi = m_tree[size_t(b)].chi;
+        return t;
+    };
+    build_clusters(0, uint32_t(clusters.size()));
+    std::sort(m_upper.begin(), m_upper.end());
+    for (size_t u = 0; u < m_upper.size(); ++u) m_tree[m_upper[u]].upper = int32_t(u);
+    // Per viewing cluster, what each node at or above the clusters shows it: 0 none of its clusters,
+    // 1 all of them, 2 some (children after parents, so from the back). O(C·U) bytes.
+    if (!vis.empty()) {
+        m_visible = vis.visible;
+        const size_t C = m_clusters, U = m_upper.size();
+        m_upper_state.assign(C * U, 0);
+        for (size_t c = 0; c < C; ++c) {
+            uint8_t *state = m_upper_state.data() + c * U;
+            for (size_t u = U; u-- > 0;) {
+                const Node &t = m_tree[m_upper[u]];
+                if (t.cluster >= 0) {
+                    state[u] = m_visible[c * C + size_t(t.cluster)];
+                } else {
+                    const uint8_t a = state[m_tree[size_t(t.child[0])].upper], b = state[m_tree[size_t(t.child[1])].upper];
+                    state[u] = a == b ? a : 2;
+                }
+            }
+        }
+    }
+    for (uint32_t j : m_place_node) {
+        m_pos.push_back(position[j]), m_nrm.push_back(normal[j]);
+        m_px.push_back(position[j].x), m_py.push_back(position[j].y), m_pz.push_back(position[j].z);
+        m_nx.push_back(normal[j].x), m_ny.push_back(normal[j].y), m_nz.push_back(normal[j].z);
+    }
+    for (Node &t : m_tree) summarise(t);
+}
+
+void PriorTree::summarise(Node &t) const {
+    const float inv = 1.f / float(t.hi - t.lo);
+    t.box_min = Vec3f(std::numeric_limits<float>::infinity()), t.box_max = Vec3f(-std::numeric_limits<float>::infinity());
+    for (uint32_t k = t.lo; k < t.hi; ++k) t.box_min = min(t.box_min, m_pos[k]), t.box_max = max(t.box_max, m_pos[k]);
+    t.centroid = Vec3f(0.f), t.normal_sum = Vec3f(0.f);
+    for (uint32_t k = t.lo; k < t.hi; ++k) t.centroid += m_pos[k] * inv, t.normal_sum += m_nrm[k];
+    t.radius = 0.f;
+    for (uint32_t k = t.lo; k < t.hi; ++k) t.radius = std::max(t.radius, length(m_pos[k] - t.centroid));
+    for (float &v : t.spread) v = 0.f;
+    for (uint32_t k = t.lo; k < t.hi; ++k) {
+        const Vec3f e = m_pos[k] - t.centroid;
+        t.spread[0] += e.x * e.x, t.spread[1] += e.x * e.y, t.spread[2] += e.x * e.z;
+        t.spread[3] += e.y * e.y, t.spread[4] += e.y * e.z, t.spread[5] += e.z * e.z;
+    }
+    const float len = length(t.normal_sum);
+    t.normal_length = len;
+    t.cone = 0.f;
+    if (!(len > 1e-6f)) {
+        t.cone = float(k_pi), t.cos_cone = -1.f, t.sin_cone = 0.f, t.normal_length = 0.f;   // normals cancel: never aggregated
+        return;
+    }
+    const Vec3f axis = t.normal_sum / len;
+    t.thickness = 0.f;
+    for (uint32_t k = t.lo; k < t.hi; ++k) {
+        t.cone = std::max(t.cone, std::acos(std::clamp(dot(m_nrm[k], axis), -1.f, 1.f)));
+        t.thickness = std::max(t.thickness, std::abs(dot(m_pos[k] - t.centroid, axis)));
+    }
+    t.cos_cone = std::cos(t.cone), t.sin_cone = std::sin(t.cone), t.delta = 2.f * std::sin(0.5f * t.cone);
+}
+
+size_t PriorTree::bytes() const {
+    return m_tree.size() * sizeof(Node) + m_place_node.size() * (sizeof(uint32_t) + 2 * sizeof(Vec3f) + 6 * sizeof(float)) +
+           (m_cluster_seq.size() + m_upper.size()) * sizeof(uint32_t) + m_visible.size() + m_upper_state.size();
+}
+
+PriorTree::Sums PriorTree::sums(const std::vector<Vec3f> &x) const {
+    if (x.size() != nodes()) LTM_THROW("prior tree: ", x.size(), " values for ", nodes(), " nodes");
+    Sums s;
+    s.value.resize(nodes());
+    for (size_t k = 0; k < nodes(); ++k) s.value[k] = x[m_place_node[k]];
+    s.total.assign(m_tree.size(), Vec3f(0.f));
+    s.moment.assign(m_tree.size() * 3, Vec3f(0.f));
+    // Σ_j x_j and Σ_j x_j (p_j − c) from the places, O(T log m) in all.
+    for (size_t t = 0; t < m_tree.size(); ++t) {
+        const Node &n = m_tree[t];
+        for (uint32_t k = n.lo; k < n.hi; ++k) {
+            s.total[t] += s.value[k];
+            const Vec3f e = m_pos[k] - n.centroid;
+            for (int c = 0; c < 3; ++c) s.moment[t * 3 + size_t(c)] += e * s.value[k][c];
+        }
+    }
+    return s;
+}
+
+template <class Visit>
+void PriorTree::traverse(Vec3f p, Vec3f n, const View &view, Scratch &scratch, Visit &&visit) const {
+    if (m_tree.empty()) return;
+    const float near_reach = m_patches ? 2.5f * m_side : 0.f;
+    const size_t C = m_clusters, U = m_upper.size();
+    auto &stack = scratch.stack;
+    stack.assign(1, {0u, -1.f});   // (tree node, its weight; < 0: not known yet)
+    while (!stack.empty()) {
+        auto [t, w] = stack.back();
+        stack.pop_back();
+        visit.visited();
+        const Node &s = m_tree[t];
+        bool uniform = true;
+        if (view.K == 0) {
+            w = 1.f;
+        } else if (w < 0.f) {
+            w = 0.f;
+            if (s.cluster >= 0) {   // a cluster's root: Σ_k w_k V(c_k, c)
+                for (int k = 0; k < view.K; ++k) w += view.w[k] * float(m_visible[size_t(view.ids[k]) * C + size_t(s.cluster)]);
+            } else {                // above the clusters: uniform when each blended row sees all or none of them
+                for (int k = 0; k < view.K; ++k) {
+                    const uint8_t state = m_upper_state[size_t(view.ids[k]) * U + size_t(s.upper)];
+                    if (state == 2) uniform = false;
+                    else w += view.w[k] * float(state);
+                }
+                if (!uniform) w = 1.f;   // some of it is seen: open it
+            }
+        }
+        if (!(w > 0.f)) continue;
+        const Vec3f d = s.centroid - p;
+        const float r2 = dot(d, d), dist = std::sqrt(r2), cr = dot(n, d);
+        if (s.normal_length > 0.f && s.cos_cone > 0.f) {
+            // Bounds on the members' cosines (times r) with the receiver (A_j = n·(p_j − p)) and their
+            // own (B_j = −n_j·(p_j − p)): A_j from the bounding box and from the centroid, the normal's
+            // tilt and the thickness (n·e_j ≤ |n·N̂| h + |n × N̂| R); B_j from −N̂·d, with n_j within
+            // δ = 2 sin(β/2) of N̂ and |n_j·e_j| ≤ h + δ R.
+            const Vec3f nhat = s.normal_sum / s.normal_length;
+            const float along = std::abs(dot(n, nhat)), across = std::sqrt(std::max(0.f, 1.f - along * along));
+            const float spread = along * s.thickness + across * s.radius;
+            float box_lo = -dot(n, p), box_hi = box_lo;
+            for (int a = 0; a < 3; ++a) {
+                const float u = n[a] * s.box_min[a], v = n[a] * s.box_max[a];
+                box_lo += std::min(u, v), box_hi += std::max(u, v);
+            }
+            const float a_lo = std::max(box_lo, cr - spread), a_hi = std::min(box_hi, cr + spread);
+            const float b_mid = -dot(nhat, d), b_slack = s.delta * (dist + s.radius) + s.thickness;
+            // Exactly 0: every member behind the receiver's plane (its patch too: a corner lies at most
+            // s/√2 · sin∠(n, n_j) off the centre along n, ∠(n, n_j) ≤ ∠(n, N̂) + β), or the receiver
+            // behind every member's plane (where the point formula and the patch both give 0).
+            float corner = 0.f;
+            if (m_patches) {
+                const float cb = s.cos_cone, sb = s.sin_cone;
+                const float c_tilt = along * cb - across * sb;   // cos(∠(n, N̂) + β)
+                corner = 0.7072f * m_side * (c_tilt <= 0.f ? 1.f : across * cb + along * sb);
+            }
+            if (a_hi + corner <= m_coplanar || b_mid + b_slack <= 0.f) continue;
+            if (uniform && m_theta > 0.f && s.cos_cone >= k_flat_cos && s.radius < m_theta * dist && dist - s.radius > near_reach &&
+                a_lo > 0.f && b_mid - b_slack > 0.f) {
+                visit.aggregate(t, w, d);
+                continue;
+            }
+        }
+        if (s.child[0] < 0) {
+            visit.exact(s.lo, s.hi, w);
+            continue;
+        }
+        // Below a cluster's root the weight is the cluster's.
+        const float wc = s.cluster >= 0 ? w : -1.f;
+        stack.push_back({uint32_t(s.child[1]), wc});
+        stack.push_back({uint32_t(s.child[0]), wc});
+    }
+}
+
+void PriorTree::record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &scratch) const {
+    row.clear();
+    const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
+    struct Visit {
+        const PriorTree &tree;
+        Vec3f p, n;
+        float near_reach, scale;
+        Row &row;
+        void visited() {}
+        // The expansion of k about the centroid (header): Σ_j k(p_j) x_j ≈ k(c)·f·Σ_j x_j + ∇k(c)·Σ_j x_j e_j.
+        void aggregate(uint32_t t, float w, Vec3f d) {
+            const Node &s = tree.m_tree[t];
+            const double u = double(dot(d, d)), reg = double(tree.m_reg);
+            const double h = u * (u + reg), h1 = 2 * u + reg;
+            const double g = 1 / h, g1 = -h1 / (h * h), g2 = (2 * h1 * h1 - 2 * h) / (h * h * h);
+            const double count = double(s.hi - s.lo);
+            const Vec3f mbar = s.normal_sum / float(count);
+            const double A = double(dot(n, d)), B = -double(dot(mbar, d));
+            const auto quad = [&s](Vec3f a, Vec3f b) {   // aᵀ Σ b
+                const float *S = s.spread;
+                return double(a.x * (S[0] * b.x + S[1] * b.y + S[2] * b.z) + a.y * (S[1] * b.x + S[3] * b.y + S[4] * b.z) +
+                              a.z * (S[2] * b.x + S[4] * b.y + S[5] * b.z));
+            };
+            const double trace = double(s.spread[0] + s.spread[3] + s.spread[5]);
+            const double k = A * B * g;
+            const double second = g * -quad(n, mbar) + 2 * g1 * (A * -quad(mbar, d) + B * quad(n, d)) + A * B * (g1 * trace + 2 * g2 * quad(d, d));
+            // The second-order terms as a factor of the first-order sum: never flips its sign.
+            const double factor = std::clamp(1 + second / (count * k), 0.5, 1.5);
+            row.den += double(w) * count * k * factor;
+            // ∇k(c) = B g n − A g n̄ + 2 A B g′ d
+            const Vec3f grad = (n * float(B * g) - mbar * float(A * g) + d * float(2 * A * B * g1)) * w;
+            row.aggregates.push_back({t, float(double(w) * k * factor), grad});
+        }
+        // The dense row's terms (transport_prior.cpp): the point formula, and within 2.5 s the
+        // square patch's form factor blended in over r ∈ [1.5 s, 2.5 s].
+        void exact(uint32_t lo, uint32_t hi, float w) {
+            const float s = tree.m_side;
+            for (uint32_t j = lo; j < hi; ++j) {
+                const float dx = tree.m_px[j] - p.x, dy = tree.m_py[j] - p.y, dz = tree.m_pz[j] - p.z;
+                const float r2 = dx * dx + dy * dy + dz * dz;
+                const float cr = n.x * dx + n.y * dy + n.z * dz;
+                const float cs = -(tree.m_nx[j] * dx + tree.m_ny[j] * dy + tree.m_nz[j] * dz);
+                float t = (cr > 0.f && cs > 0.f) ? cr * cs / (r2 * (r2 + tree.m_reg) + 1e-30f) : 0.f;
+                if (tree.m_patches) {
+                    const float r = std::sqrt(r2);
+                    if (r < near_reach) {
+                        const float beta = std::clamp((r - 1.5f * s) / s, 0.f, 1.f);
+                        const float patch = patch_form_factor(p, n, tree.m_pos[j], tree.m_nrm[j], s) * scale;
+                        t = (1.f - beta) * patch + beta * t;
+                    }
+                }
+                if (!(t > 0.f)) continue;
+                const double wt = double(w) * double(t);
+                row.den += wt;
+                row.exact.push_back({j, float(wt)});
+            }
+        }
+    } visit{*this, p, n, near_reach, scale, row};
+    traverse(p, n, view, scratch, visit);
+}
+
+void PriorTree::apply(const Row &row, const Sums &x, double num[3]) const {
+    num[0] = num[1] = num[2] = 0;
+    for (const Row::Aggregate &a : row.aggregates) {
+        const Vec3f &total = x.total[a.node];
+        const Vec3f *moment = &x.moment[size_t(a.node) * 3];
+        for (int c = 0; c < 3; ++c) num[c] += double(a.coef) * double(total[c]) + double(dot(a.grad, moment[c]));
+    }
+    for (const Row::Exact &e : row.exact)
+        for (int c = 0; c < 3; ++c) num[c] += double(e.coef) * double(x.value[e.place][c]);
+}
+
+size_t PriorTree::Row::bytes() const {
+    return sizeof(Row) + aggregates.capacity() * sizeof(Aggregate) + exact.capacity() * sizeof(Exact);
+}
+
+void PriorTree::row(Vec3f p, Vec3f n, const View &view, const Sums *x, double &den, double num[3], Scratch &scratch) const {
+    record(p, n, view, scratch.row, scratch);
+    den = scratch.row.den;
+    if (x) apply(scratch.row, *x, num);
+    else num[0] = num[1] = num[2] = 0;
+}
+
+PriorTree::Work PriorTree::count(Vec3f p, Vec3f n, const View &view, Scratch &scratch) const {
+    struct Visit {
+        Work w;
+        void visited() { ++w.visited; }
+        void aggregate(uint32_t, float, Vec3f) { ++w.aggregates; }
+        void exact(uint32_t lo, uint32_t hi, float) { w.exact += hi - lo; }
+    } visit;
+    traverse(p, n, view, scratch, visit);
+    return visit.w;
+}
+
+}  // namespace ltm

@@ -1,0 +1,158 @@
+// prior_hierarchy_test.cpp: the transport prior through its cluster tree against the dense rows —
+// identical up to rounding at θ = 0 (solve and gather), close at θ = 0.5 with a fraction of the
+// work, the furnace exact at any θ; deterministic at any thread count; bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <tuple>
+
+#include "ltm/core/error.h"
+#include "ltm/core/parallel.h"
+#include "ltm/transport/point_visibility.h"
+#include "ltm/transport/prior_hierarchy.h"
+#include "ltm/transport/transport_prior.h"
+#include "point_rooms.h"
+
+using namespace ltm;
+
+namespace {
+struct Points {
+    std::vector<Vec3f> p, n, rho, le;
+};
+
+float hash01(size_t i, int salt) {
+    const double x = std::sin(double(i) * 12.9898 + double(salt) * 78.233) * 43758.5453;
+    return float(x - std::floor(x));
+}
+
+// Two rooms side by side, [0, 3]³ and [3.2, 6.2] × [0, 3]², with a door through the wall between
+// them; g×g jittered points per face; coloured walls; a ceiling panel in the first room emits.
+Points two_rooms(int g) {
+    Points pts;
+    const Vec3f origin(0.0137f, 0.0071f, 0.0029f);
+    for (int room = 0; room < 2; ++room) {
+        const Vec3f lo = origin + Vec3f(3.2f * float(room), 0.f, 0.f);
+        const auto jitter = [&pts] {
+            return std::pair{0.3f * (hash01(pts.p.size(), 1) - 0.5f), 0.3f * (hash01(pts.p.size(), 2) - 0.5f)};
+        };
+        test::for_each_face_cell(lo, Vec3f(3.f), g, jitter, [&](int f, Vec3f p, Vec3f n) {
+            const bool in_wall = p.x > 2.9f && p.x < 3.3f;
+            if (in_wall && p.y < 2.f && std::abs(p.z - 1.5f) < 0.5f) return;   // the door
+            const bool panel = room == 0 && f == 3 && std::abs(p.x - 1.5f) < 0.5f && std::abs(p.z - 1.5f) < 0.5f;
+            pts.p.push_back(p), pts.n.push_back(n);
+            pts.rho.push_back(Vec3f(0.3f + 0.1f * float(f), 0.5f, 0.7f - 0.08f * float(f)));
+            pts.le.push_back(panel ? Vec3f(6.f, 5.f, 4.f) : Vec3f(0.f));
+        });
+    }
+    return pts;
+}
+
+TransportPrior solve(const Points &pts, float area, float theta, bool visibility, bool patches, int blend = 1) {
+    ClusterVisibility v;
+    if (visibility) {
+        v = cluster_visibility(pts.p, pts.n, VoxelOccupancy(pts.p, pts.n, 2.f * std::sqrt(area)), 128);
+        v.blend = blend;
+    }
+    return solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, area, 5, std::move(v), PriorBalance::per_channel, patches, theta);
+}
+
+// Receivers: points of the rooms' surfaces, off the nodes, and a few inside the air facing up.
+void receivers(const Points &pts, std::vector<Vec3f> &qp, std::vector<Vec3f> &qn) {
+    for (size_t i = 0; i < pts.p.size(); i += 7) qp.push_back(pts.p[i] + pts.n[i] * 0.01f), qn.push_back(pts.n[i]);
+    qp.push_back({1.5f, 1.f, 1.5f}), qn.push_back({0.f, 1.f, 0.f});
+    qp.push_back({4.7f, 1.f, 1.5f}), qn.push_back({0.f, 1.f, 0.f});
+}
+
+// √(mean (a − b)²) / √(mean b²) over every channel.
+double relative_rms(const std::vector<float> &a, const std::vector<float> &b) {
+    double num = 0, den = 0;
+    for (size_t i = 0; i < a.size(); ++i) num += double(a[i] - b[i]) * double(a[i] - b[i]), den += double(b[i]) * double(b[i]);
+    return std::sqrt(num / den);
+}
+
+std::vector<float> flat(const std::vector<Vec3f> &v) {
+    std::vector<float> out;
+    for (const Vec3f &x : v) out.insert(out.end(), {x.x, x.y, x.z});
+    return out;
+}
+}  // namespace
+
+// θ = 0 never aggregates: the tree visits every node the dense row sums, with the same terms (the
+// point formula, the patches, the clusters' weights), so the solve and the gather agree to rounding.
+TEST(PriorHierarchy, ThetaZeroIsTheDenseRows) {
+    const Points pts = two_rooms(10);
+    const float area = 9.f / 100.f;
+    std::vector<Vec3f> qp, qn;
+    receivers(pts, qp, qn);
+    for (const auto &[vis, patches, blend] : {std::tuple{false, false, 1}, std::tuple{true, false, 1}, std::tuple{true, true, 1},
+                                              std::tuple{true, true, 4}}) {
+        const TransportPrior dense = solve(pts, area, 0.f, vis, patches, blend);
+        const TransportPrior tree = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, area, 5, dense.visibility,
+                                                          PriorBalance::per_channel, patches, 1e-30f);
+        ASSERT_TRUE(tree.tree);
+        EXPECT_LT(relative_rms(flat(tree.exitance), flat(dense.exitance)), 1e-5) << vis << patches << blend;
+        EXPECT_LT(relative_rms(test::gather(tree, qp, qn), test::gather(dense, qp, qn)), 1e-5) << vis << patches << blend;
+    }
+}
+
+// At θ = 0.5 the far light comes from aggregates: the solve and the gather stay within a few
+// per cent of the dense rows, and a receiver's row visits a fraction of the nodes.
+TEST(PriorHierarchy, ApproximatesTheDenseRowsWithLessWork) {
+    const Points pts = two_rooms(24);   // 6 670 nodes
+    const float area = 9.f / 576.f;
+    std::vector<Vec3f> qp, qn;
+    receivers(pts, qp, qn);
+    const TransportPrior dense = solve(pts, area, 0.f, true, true, 4);
+    const TransportPrior tree = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, area, 5, dense.visibility,
+                                                      PriorBalance::per_channel, true, 0.5f);
+    const double ex = relative_rms(flat(tree.exitance), flat(dense.exitance));
+    const double e = relative_rms(test::gather(tree, qp, qn), test::gather(dense, qp, qn));
+    EXPECT_LT(ex, 0.025);   // measured 0.014 (0.026 without the second-order terms)
+    EXPECT_LT(e, 0.01);     // measured 0.0033
+    // Work at a receiver in the middle of the lit room's floor: aggregates and exactly summed nodes.
+    PriorTree::Scratch scratch;
+    uint32_t ids[ClusterVisibility::k_candidates];
+    float w[ClusterVisibility::k_candidates];
+    const Vec3f p(1.5f, 0.0171f, 1.2f), n(0.f, 1.f, 0.f);
+    const int K = dense.visibility.receiver_clusters(p, n, ids, w);
+    const PriorTree::Work work = tree.tree->count(p, n, {ids, w, K}, scratch);
+    EXPECT_GT(work.aggregates, 0u);
+    EXPECT_LT(double(work.aggregates + work.exact), 0.1 * double(pts.p.size())) << work.aggregates << " + " << work.exact;   // measured 4.4 %
+}
+
+// A closed box of uniform albedo and emission: every value is the same, so a row's aggregates give
+// num/den = that value whatever they approximate — exact at any θ, as the dense rows.
+TEST(PriorHierarchy, FurnaceIsExactAtAnyTheta) {
+    Points pts;
+    test::for_each_face_cell(Vec3f(0.f), Vec3f(2.f), 16, test::no_jitter, [&](int, Vec3f p, Vec3f n) {
+        pts.p.push_back(p), pts.n.push_back(n), pts.rho.push_back(Vec3f(0.5f, 0.8f, 0.2f)), pts.le.push_back(Vec3f(1.f, 2.f, 3.f));
+    });
+    const TransportPrior t = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 4.f / 256.f, 5, {}, PriorBalance::per_channel, true, 0.8f);
+    const auto e = test::gather(t, {{1.f, 0.01f, 1.f}, {0.3f, 1.2f, 1.99f}}, {{0, 1, 0}, {0, 0, -1}});
+    for (int c = 0; c < 3; ++c) {
+        const double rho = pts.rho[0][c];
+        const double expect = k_pi * double(pts.le[0][c]) * (rho - std::pow(rho, 6)) / (1 - rho);
+        EXPECT_NEAR(e[size_t(c)], expect, 1e-4 * expect);
+        EXPECT_NEAR(e[3 + size_t(c)], expect, 1e-4 * expect);
+    }
+}
+
+TEST(PriorHierarchy, SameAtAnyThreadCount) {
+    const Points pts = two_rooms(12);
+    std::vector<Vec3f> qp, qn;
+    receivers(pts, qp, qn);
+    const auto many = test::gather(solve(pts, 9.f / 144.f, 0.5f, true, true, 4), qp, qn);
+    const int threads = num_threads();
+    set_num_threads(1);
+    const auto one = test::gather(solve(pts, 9.f / 144.f, 0.5f, true, true, 4), qp, qn);
+    set_num_threads(threads);
+    EXPECT_EQ(one, many);
+}
+
+TEST(PriorHierarchy, BadInputIsAnError) {
+    const Points pts = two_rooms(4);
+    EXPECT_THROW(solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 0.1f, 5, {}, PriorBalance::per_channel, false, -0.1f), Error);
+    EXPECT_THROW(solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 0.1f, 5, {}, PriorBalance::per_channel, false, 1.5f), Error);
+    EXPECT_THROW(solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 0.1f, 5, {}, PriorBalance::per_channel, false, NAN), Error);
+    EXPECT_THROW(PriorTree(pts.p, {}, {}, 0.1f, false, 0.5f), Error);
+}
