@@ -67,7 +67,7 @@ static void BM_Encode(benchmark::State &state) {
     torch::NoGradGuard ng;
     const auto sp = points(state.range(0), SampleStream::scene_points, true);
     const SceneGeometry g = model->scene_geometry(sp);
-    for (auto _ : state) benchmark::DoNotOptimize(model->encode(sp, g).features.data_ptr());
+    for (auto _ : state) benchmark::DoNotOptimize(model->features(model->encode(sp, g)).data_ptr());
 }
 BENCHMARK(BM_Encode)->Args({8192, 0})->Args({20000, 0})->Args({20000, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
@@ -107,7 +107,7 @@ static void BM_DecodeKernel(benchmark::State &state) {
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), lat.anchors.contiguous(), model->cfg.decoder.n_neighbors);
     const auto t0 = std::chrono::steady_clock::now();
     FusedDecoder fused(*model->decoder);
-    fused.prepare(lat.features);
+    fused.prepare(model->features(lat));
     state.counters["build_ms"] = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (auto _ : state) {
         if (state.range(0) == 1) {
@@ -115,7 +115,7 @@ static void BM_DecodeKernel(benchmark::State &state) {
             continue;
         }
         for (int64_t s = 0; s < q.size(0); s += 1024)
-            benchmark::DoNotOptimize(model->decoder->forward(q.slice(0, s, s + 1024), lat.features, lat.anchors,
+            benchmark::DoNotOptimize(model->decoder->forward(q.slice(0, s, s + 1024), model->features(lat), lat.anchors,
                                                              idx.slice(0, s, s + 1024)).data_ptr());
     }
     state.SetItemsProcessed(state.iterations() * 65536);

@@ -200,21 +200,22 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     // (Non-finite scene points take the network's path, which reports them.)
+    const bool fold = fold_prior && !torch::GradMode::is_enabled() && decoder->at_prior() && torch::isfinite(scene_points).all().item<bool>();
+    if (fold && !directional) {
+        // The decoder's output does not depend on the latents (fold_prior in the header).
+        out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
+        return out;
+    }
     if (cfg.prior_inputs) {
         if (!out.norm.point_prior.defined()) LTM_THROW("encode: the given frame has no point_prior (make it with scene_frame)");
         TORCH_CHECK(out.norm.point_prior.dim() == 2 && out.norm.point_prior.size(0) == x.size(0) && out.norm.point_prior.size(1) == 3,
                     "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", out.norm.point_prior.sizes());
         x = torch::cat({x, prior_features(out.norm.point_prior, out.norm)}, 1);   // [M, 15]
     }
-    if (fold_prior && !torch::GradMode::is_enabled() && decoder->at_prior() && torch::isfinite(scene_points).all().item<bool>()) {
-        // The decoder's output does not depend on the latents (fold_prior in the header); only a
-        // directional head reads them, and only when asked.
-        if (!directional) {
-            out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
-        } else {
-            out.deferred = std::make_shared<SceneLatents::Deferred>();
-            out.deferred->x = x, out.deferred->centers = geometry.centers, out.deferred->groups = geometry.groups;
-        }
+    if (fold) {
+        // Only the directional head reads the latents, and only when asked: its encoder run waits.
+        out.deferred = std::make_shared<SceneLatents::Deferred>();
+        out.deferred->x = x, out.deferred->centers = geometry.centers, out.deferred->groups = geometry.groups;
         return out;
     }
     const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]

@@ -10,13 +10,16 @@
 #include "ltm/core/error.h"
 #include "ltm/transport/patch_form_factor.h"
 
+
 namespace ltm {
 
 namespace {
 constexpr uint32_t k_leaf = 8;   // nodes per leaf at most
-// Aggregates only over nearly flat subtrees: with normals that differ, Σ_j (n·e_j)(n_j·d) and
-// Σ_j n_j·e_j are first order in R/|d| (two walls of a corner), beyond what N and the second moment carry.
-constexpr float k_flat_cos = 0.9553365f;   // cos 0.3
+// Aggregates only over subtrees whose normals lie within this cone of their mean: the normals'
+// first-order terms (Σ_j e_j n_jᵀ) are carried, their second-order ones are not (header).
+// 0.6 rad: on the staircase at 16 384 points, 822 → 719 exactly summed nodes per receiver against
+// 0.3 rad, the gather's difference to the dense rows 0.17 % → 0.15 % RMS (0.8 rad: 700, 0.15 %).
+constexpr float k_flat_cos = 0.8253356f;   // cos 0.6
 
 // Which way a normal faces most: 2a for +axis a, 2a + 1 for −axis a.
 int facing_class(Vec3f n) {
@@ -153,18 +156,27 @@ PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f
 }
 
 void PriorTree::summarise(Node &t) const {
-    const float inv = 1.f / float(t.hi - t.lo);
     t.box_min = Vec3f(std::numeric_limits<float>::infinity()), t.box_max = Vec3f(-std::numeric_limits<float>::infinity());
     for (uint32_t k = t.lo; k < t.hi; ++k) t.box_min = min(t.box_min, m_pos[k]), t.box_max = max(t.box_max, m_pos[k]);
-    t.centroid = Vec3f(0.f), t.normal_sum = Vec3f(0.f);
-    for (uint32_t k = t.lo; k < t.hi; ++k) t.centroid += m_pos[k] * inv, t.normal_sum += m_nrm[k];
+    // The centroid in double: Σ_j e_j = 0 is what the expansion drops (float sums over a large
+    // subtree left ~1e-3 of the furnace's value).
+    double c[3] = {0, 0, 0};
+    t.normal_sum = Vec3f(0.f);
+    for (uint32_t k = t.lo; k < t.hi; ++k) {
+        for (int a = 0; a < 3; ++a) c[a] += double(m_pos[k][a]);
+        t.normal_sum += m_nrm[k];
+    }
+    t.centroid = Vec3f(float(c[0] / double(t.hi - t.lo)), float(c[1] / double(t.hi - t.lo)), float(c[2] / double(t.hi - t.lo)));
     t.radius = 0.f;
     for (uint32_t k = t.lo; k < t.hi; ++k) t.radius = std::max(t.radius, length(m_pos[k] - t.centroid));
     for (float &v : t.spread) v = 0.f;
+    for (float &v : t.tilt) v = 0.f;
     for (uint32_t k = t.lo; k < t.hi; ++k) {
         const Vec3f e = m_pos[k] - t.centroid;
         t.spread[0] += e.x * e.x, t.spread[1] += e.x * e.y, t.spread[2] += e.x * e.z;
         t.spread[3] += e.y * e.y, t.spread[4] += e.y * e.z, t.spread[5] += e.z * e.z;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) t.tilt[a * 3 + b] += e[a] * m_nrm[k][b];
     }
     const float len = length(t.normal_sum);
     t.normal_length = len;
@@ -192,15 +204,17 @@ PriorTree::Sums PriorTree::sums(const std::vector<Vec3f> &x) const {
     Sums s;
     s.value.resize(nodes());
     for (size_t k = 0; k < nodes(); ++k) s.value[k] = x[m_place_node[k]];
-    s.total.assign(m_tree.size(), Vec3f(0.f));
+    s.dipole.assign(m_tree.size() * 3, Vec3f(0.f));
     s.moment.assign(m_tree.size() * 3, Vec3f(0.f));
-    // Σ_j x_j and Σ_j x_j (p_j − c) from the places, O(T log m) in all.
+    // Σ_j n_j x_j and Σ_j x_j (p_j − c) from the places, O(T log m) in all.
     for (size_t t = 0; t < m_tree.size(); ++t) {
         const Node &n = m_tree[t];
         for (uint32_t k = n.lo; k < n.hi; ++k) {
-            s.total[t] += s.value[k];
             const Vec3f e = m_pos[k] - n.centroid;
-            for (int c = 0; c < 3; ++c) s.moment[t * 3 + size_t(c)] += e * s.value[k][c];
+            for (int c = 0; c < 3; ++c) {
+                s.dipole[t * 3 + size_t(c)] += m_nrm[k] * s.value[k][c];
+                s.moment[t * 3 + size_t(c)] += e * s.value[k][c];
+            }
         }
     }
     return s;
@@ -307,10 +321,21 @@ void PriorTree::record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &sc
             const double second = g * -quad(n, mbar) + 2 * g1 * (A * -quad(mbar, d) + B * quad(n, d)) + A * B * (g1 * trace + 2 * g2 * quad(d, d));
             // The second-order terms as a factor of the first-order sum: never flips its sign.
             const double factor = std::clamp(1 + second / (count * k), 0.5, 1.5);
-            row.den += double(w) * count * k * factor;
-            // ∇k(c) = B g n − A g n̄ + 2 A B g′ d
-            const Vec3f grad = (n * float(B * g) - mbar * float(A * g) + d * float(2 * A * B * g1)) * w;
-            row.aggregates.push_back({t, float(double(w) * k * factor), grad});
+            // The normals' first-order terms, M = Σ_j e_j n_jᵀ (0 when they are all equal):
+            // −A g tr M − g nᵀ M d − 2 A g′ dᵀ M d, as a factor on the whole sum (a uniform x stays exact).
+            const float *T = s.tilt;
+            const auto mq = [T](Vec3f a, Vec3f b) {   // aᵀ M b
+                return double(a.x * (T[0] * b.x + T[1] * b.y + T[2] * b.z) + a.y * (T[3] * b.x + T[4] * b.y + T[5] * b.z) +
+                              a.z * (T[6] * b.x + T[7] * b.y + T[8] * b.z));
+            };
+            const double tilt = -A * g * double(T[0] + T[4] + T[8]) - g * mq(n, d) - 2 * A * g1 * mq(d, d);
+            const double tilt_factor = std::clamp(1 + tilt / (count * k), 0.5, 1.5);
+            const double weight = double(w) * factor * tilt_factor;
+            row.den += weight * count * k;
+            // Σ_j x_j k(p_j): A g (−d · Σ_j n_j x_j) + ∇k(c) · Σ_j x_j e_j, ∇k(c) = B g n − A g n̄ + 2 A B g′ d.
+            const Vec3f along = d * float(-weight * A * g);
+            const Vec3f grad = (n * float(B * g) - mbar * float(A * g) + d * float(2 * A * B * g1)) * float(double(w) * tilt_factor);
+            row.aggregates.push_back({t, along, grad});
         }
         // The dense row's terms (transport_prior.cpp): the point formula, and within 2.5 s the
         // square patch's form factor blended in over r ∈ [1.5 s, 2.5 s].
@@ -343,9 +368,8 @@ void PriorTree::record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &sc
 void PriorTree::apply(const Row &row, const Sums &x, double num[3]) const {
     num[0] = num[1] = num[2] = 0;
     for (const Row::Aggregate &a : row.aggregates) {
-        const Vec3f &total = x.total[a.node];
-        const Vec3f *moment = &x.moment[size_t(a.node) * 3];
-        for (int c = 0; c < 3; ++c) num[c] += double(a.coef) * double(total[c]) + double(dot(a.grad, moment[c]));
+        const Vec3f *dipole = &x.dipole[size_t(a.node) * 3], *moment = &x.moment[size_t(a.node) * 3];
+        for (int c = 0; c < 3; ++c) num[c] += double(dot(a.along, dipole[c])) + double(dot(a.grad, moment[c]));
     }
     for (const Row::Exact &e : row.exact)
         for (int c = 0; c < 3; ++c) num[c] += double(e.coef) * double(x.value[e.place][c]);

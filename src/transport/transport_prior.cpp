@@ -271,10 +271,10 @@ struct BlendedView {
 
 // The hierarchical solve (transport/prior_hierarchy.h): each bounce gathers B_k at every node
 // through the tree, Ĝ never stored densely. The first pass records each node's row (its aggregates'
-// and exact terms: ~10 KB a node in a house at M = 65 536) while they fit in k_row_budget, and the
+// and exact terms: ~9 KB a node in a house at M = 65 536) while they fit in k_row_budget, and the
 // later bounces apply the recorded rows instead of walking the tree again; rows beyond the budget
 // are walked again. The result is the same either way. Same outputs as dense_bounces.
-constexpr size_t k_row_budget = size_t(512) << 20;
+constexpr size_t k_row_budget = size_t(768) << 20;
 
 std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                 const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance, int bounces,
@@ -371,6 +371,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
             gain = Vec3f(luminance(mean_e) > 0.f ? luminance(target) / luminance(mean_e) : 0.f);
     }
     for (size_t j = 0; j < m; ++j) out.exitance[j] = ex[j] * gain;
+    if (out.tree) out.tree_sums = std::make_shared<const PriorTree::Sums>(out.tree->sums(out.exitance));
     return out;
 }
 
@@ -439,7 +440,9 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
     const size_t m = prior.position.size();
     const ClusterVisibility &vis = prior.visibility;
     if (prior.tree) {   // through the cluster tree: far nodes as aggregates
-        const PriorTree::Sums sums = prior.tree->sums(prior.exitance);
+        std::shared_ptr<const PriorTree::Sums> held = prior.tree_sums;
+        if (!held) held = std::make_shared<const PriorTree::Sums>(prior.tree->sums(prior.exitance));
+        const PriorTree::Sums &sums = *held;
         parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
             BlendedView bv;

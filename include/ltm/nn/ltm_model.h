@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <memory>
 
-#include <memory>
 #include <mutex>
 
 #include <torch/torch.h>

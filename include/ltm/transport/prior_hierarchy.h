@@ -15,8 +15,8 @@
 //   - every cluster under S has one weight v_S > 0 for this receiver (a subtree weighing 0 is skipped),
 //   - R_S < θ · |d|  (d = c_S − p: S is small as seen from p),
 //   - the near field is not involved: |d| − R_S > 2.5 s (patches),
-//   - S is nearly flat (β_S ≤ 0.3: where normals differ, Σ_j (n·e_j)(n_j·d) is first order in
-//     R_S/|d|, the two walls of a corner) and
+//   - S's normals lie within 0.6 rad of their mean (β_S; its normals' first-order terms are carried
+//     below, the second-order ones are not) and
 //   - every member is in front of p and faces it, by bounds on the two cosines (times r) of the point
 //     formula: A_j = n·(p_j − p) ≥ max(box bound, n·d − |n·N̂| h_S − |n × N̂| R_S) > 0 (the members'
 //     bounding box; h_S the subtree's thickness along N̂) and B_j = −n_j·(p_j − p) ≥ −N̂·d −
@@ -27,10 +27,13 @@
 //     k(q) = (n·(q − p)) (−n̄·(q − p)) g(|q − p|²),   g(u) = 1/(u (u + a/π)),   n̄ = N_S/|S|,
 // expanded about c_S (e_j = p_j − c_S, Σ_j e_j = 0, A = n·d, B = −n̄·d, Σ = Σ_j e_j e_jᵀ):
 //     Σ_j k(p_j)     ≈ |S| k(c) + g (−nᵀ Σ n̄) + 2 g′ (A (−n̄ᵀ Σ d) + B nᵀ Σ d) + A B (g′ tr Σ + 2 g″ dᵀ Σ d),
-//     Σ_j k(p_j) x_j ≈ k(c) Σ_j x_j · f + ∇k(c) · Σ_j x_j e_j,   ∇k = B g n − A g n̄ + 2 A B g′ d,
-// f = the first line over |S| k(c) (the second-order factor, clamped to [0.5, 1.5]). The first
-// moment of x carries where the light lies inside S (a lamp in one corner of a ceiling subtree:
-// 25 % errors at θ = 0.5 without it); a uniform x is carried exactly (the furnace). Measured on two
+// f = that over |S| k(c) (the second-order factor, clamped to [0.5, 1.5]). Members' normals that
+// differ (M = Σ_j e_j n_jᵀ, 0 when they are all equal) add the first-order terms
+//     −A g tr M − g nᵀ M d − 2 A g′ dᵀ M d
+// (the factor f_M of them over |S| k(c), likewise clamped), and with the values
+//     Σ_j k(p_j) x_j ≈ f f_M A g (−d · Σ_j n_j x_j) + f_M ∇k(c) · Σ_j x_j e_j,   ∇k = B g n − A g n̄ + 2 A B g′ d.
+// The first moment of x carries where the light lies inside S (a lamp in one corner of a ceiling
+// subtree: 25 % errors at θ = 0.5 without it); a uniform x is carried exactly (the furnace). Measured on two
 // rooms at θ = 0.5: 1.4 % RMS at the nodes after 5 bounces (2.6 % without the second-order factor).
 // A subtree wholly behind the receiver's plane or in it (the upper bounds of A_j ≤ 1e-3 s, plus the
 // patches' half-diagonal where they are used: a floor for a receiver on the floor) or with the receiver behind every member's plane (B_j ≤ 0)
@@ -53,7 +56,7 @@ public:
     /// A value x per node, summed over the tree (PriorTree::sums): per tree node its total and
     /// first moment about the centroid, and x itself at each place (the tree's node order).
     struct Sums {
-        std::vector<Vec3f> total;    ///< [T]: Σ_{j∈t} x_j
+        std::vector<Vec3f> dipole;   ///< [T, 3]: tree node t, channel c -> Σ_{j∈t} n_j x_jc
         std::vector<Vec3f> moment;   ///< [T, 3]: tree node t, channel c -> Σ_{j∈t} x_jc (p_j − c_t)
         std::vector<Vec3f> value;    ///< [m]: x at each place
     };
@@ -92,7 +95,7 @@ public:
     struct Row {
         struct Aggregate {
             uint32_t node;   ///< tree node
-            float coef;      ///< w k(c) f: times Σ x
+            Vec3f along;     ///< −w f A g d: dotted with Σ n x, per channel
             Vec3f grad;      ///< w ∇k(c): dotted with Σ x e, per channel
         };
         struct Exact {
@@ -132,6 +135,7 @@ private:
         Vec3f box_min{0.f}, box_max{0.f};   ///< the members' bounding box
         float thickness = 0.f;         ///< h: the largest |N̂ · (p_j − c)| (0 for a flat subtree)
         float spread[6] = {0, 0, 0, 0, 0, 0};   ///< Σ_j e_j e_jᵀ, e_j = p_j − c: xx, xy, xz, yy, yz, zz
+        float tilt[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};   ///< M = Σ_j e_j n_jᵀ, row-major (0 when all normals are equal)
         uint32_t lo = 0, hi = 0;       ///< its places [lo, hi)
         int32_t child[2] = {-1, -1};   ///< −1: a leaf (≤ 8 places)
         int32_t cluster = -1;          ///< the one cluster under it; −1 above the clusters

@@ -70,6 +70,9 @@ struct TransportPrior {
     /// The hierarchy (solve_transport_prior's theta > 0): the solve and the irradiance gather go
     /// through it (transport/prior_hierarchy.h); null: the dense rows.
     std::shared_ptr<const PriorTree> tree;
+    /// The exitance summed over the tree (PriorTree::sums), once per solve: every gather call (the
+    /// model calls it per chunk of queries) reads it.
+    std::shared_ptr<const PriorTree::Sums> tree_sums;
 };
 
 /// Solves D bounces among m nodes. position/normal/albedo/radiance: m entries each; node_area > 0.
