@@ -10,7 +10,6 @@
 #include "ltm/core/error.h"
 #include "ltm/transport/patch_form_factor.h"
 
-
 namespace ltm {
 
 namespace {
@@ -104,13 +103,10 @@ PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f
         m_tree[size_t(t)].lo = m_tree[size_t(a)].lo, m_tree[size_t(t)].hi = m_tree[size_t(b)].hi;
         return t;
     };
-    m_cluster_seq.clear();
     std::function<int32_t(uint32_t, uint32_t)> build_clusters = [&](uint32_t lo, uint32_t hi) -> int32_t {
         if (hi - lo == 1) {
             const uint32_t c = clusters[lo];
             const int32_t t = build_nodes(members[c], 0, uint32_t(members[c].size()), int32_t(c));
-            m_tree[size_t(t)].clo = uint32_t(m_cluster_seq.size()), m_tree[size_t(t)].chi = m_tree[size_t(t)].clo + 1;
-            m_cluster_seq.push_back(c);
             m_upper.push_back(uint32_t(t));
             return t;
         }
@@ -122,7 +118,6 @@ PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f
         Node &s = m_tree[size_t(t)];
         s.child[0] = a, s.child[1] = b;
         s.lo = m_tree[size_t(a)].lo, s.hi = m_tree[size_t(b)].hi;
-        s.clo = m_tree[size_t(a)].clo, s.chi = m_tree[size_t(b)].chi;
         return t;
     };
     build_clusters(0, uint32_t(clusters.size()));
@@ -180,23 +175,23 @@ void PriorTree::summarise(Node &t) const {
     }
     const float len = length(t.normal_sum);
     t.normal_length = len;
-    t.cone = 0.f;
     if (!(len > 1e-6f)) {
-        t.cone = float(k_pi), t.cos_cone = -1.f, t.sin_cone = 0.f, t.normal_length = 0.f;   // normals cancel: never aggregated
+        t.cos_cone = -1.f, t.sin_cone = 0.f, t.normal_length = 0.f;   // normals cancel (a cone of π): never aggregated
         return;
     }
     const Vec3f axis = t.normal_sum / len;
     t.thickness = 0.f;
+    float cone = 0.f;   // β
     for (uint32_t k = t.lo; k < t.hi; ++k) {
-        t.cone = std::max(t.cone, std::acos(std::clamp(dot(m_nrm[k], axis), -1.f, 1.f)));
+        cone = std::max(cone, std::acos(std::clamp(dot(m_nrm[k], axis), -1.f, 1.f)));
         t.thickness = std::max(t.thickness, std::abs(dot(m_pos[k] - t.centroid, axis)));
     }
-    t.cos_cone = std::cos(t.cone), t.sin_cone = std::sin(t.cone), t.delta = 2.f * std::sin(0.5f * t.cone);
+    t.cos_cone = std::cos(cone), t.sin_cone = std::sin(cone), t.delta = 2.f * std::sin(0.5f * cone);
 }
 
 size_t PriorTree::bytes() const {
     return m_tree.size() * sizeof(Node) + m_place_node.size() * (sizeof(uint32_t) + 2 * sizeof(Vec3f) + 6 * sizeof(float)) +
-           (m_cluster_seq.size() + m_upper.size()) * sizeof(uint32_t) + m_visible.size() + m_upper_state.size();
+           m_upper.size() * sizeof(uint32_t) + m_visible.size() + m_upper_state.size();
 }
 
 PriorTree::Sums PriorTree::sums(const std::vector<Vec3f> &x) const {

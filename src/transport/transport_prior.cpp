@@ -91,6 +91,24 @@ struct ClusterOrder {
     }
 };
 
+// A receiver's blended clusters and their weights (ClusterVisibility::receiver_clusters), for the
+// dense rows (ReceiverView) and the tree (PriorTree::View) alike: a node of the solve (own) with
+// blend 1 takes its own cluster. set() returns the closure; without occlusion the view is empty (K 0).
+struct BlendedView {
+    uint32_t ids[ClusterVisibility::k_candidates];
+    float w[ClusterVisibility::k_candidates];
+    PriorTree::View view;
+    float set(const ClusterVisibility &vis, Vec3f p, Vec3f n, const uint32_t *own) {
+        view = {};
+        if (vis.empty()) return 1.f;
+        int K = 1;
+        if (own && vis.blend <= 1) ids[0] = *own, w[0] = 1.f;
+        else K = vis.receiver_clusters(p, n, ids, w);
+        view = {ids, w, K};
+        return vis.closure_of(ids, w, K);
+    }
+};
+
 // What one receiver sees: the weight of each cluster, Σ_k w_k V(c_k, c) over the clusters its
 // visibility blends (ClusterVisibility::receiver_clusters; weight 1 everywhere without occlusion),
 // the runs [lo, hi) of places whose cluster weighs > 0, and mask[place] = that weight.
@@ -116,12 +134,9 @@ struct ReceiverView {
     /// The receiver (p, n), or the node at place i of the solve (blend 1: its own cluster).
     void set(const ClusterVisibility &vis, const ClusterOrder &co, Vec3f p, Vec3f n, const uint32_t *own = nullptr) {
         if (vis.empty()) return;
-        uint32_t ids[ClusterVisibility::k_candidates];
-        float w[ClusterVisibility::k_candidates];
-        int K = 1;
-        if (own && vis.blend <= 1) ids[0] = *own, w[0] = 1.f;
-        else K = vis.receiver_clusters(p, n, ids, w);
-        set(vis, co, ids, w, K);
+        BlendedView blended;
+        blended.set(vis, p, n, own);
+        set(vis, co, blended.ids, blended.w, blended.view.K);
     }
 };
 
@@ -251,23 +266,6 @@ std::vector<Vec3f> dense_bounces(const std::vector<Vec3f> &position, const std::
         for (int c = 0; c < 3; ++c) out[co.order[j]][c] = ex[c][j];
     return out;
 }
-
-// A receiver's blended clusters and their weights, as the dense rows' ReceiverView decides them: a
-// node of the solve (own) with blend 1 takes its own cluster. Returns the closure.
-struct BlendedView {
-    uint32_t ids[ClusterVisibility::k_candidates];
-    float w[ClusterVisibility::k_candidates];
-    PriorTree::View view;
-    float set(const ClusterVisibility &vis, Vec3f p, Vec3f n, const uint32_t *own) {
-        view = {};
-        if (vis.empty()) return 1.f;
-        int K = 1;
-        if (own && vis.blend <= 1) ids[0] = *own, w[0] = 1.f;
-        else K = vis.receiver_clusters(p, n, ids, w);
-        view = {ids, w, K};
-        return vis.closure_of(ids, w, K);
-    }
-};
 
 // The hierarchical solve (transport/prior_hierarchy.h): each bounce gathers B_k at every node
 // through the tree, Ĝ never stored densely. The first pass records each node's row (its aggregates'

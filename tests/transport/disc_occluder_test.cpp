@@ -13,10 +13,7 @@
 using namespace ltm;
 
 namespace {
-float hash01(size_t i, int salt) {
-    const double x = std::sin(double(i) * 12.9898 + double(salt) * 78.233) * 43758.5453;
-    return float(x - std::floor(x));
-}
+using test::hash01;
 
 // The inner faces of the box [0, 2]³ on a 12×12 grid per face (spacing s = 1/6), jittered ±0.3 s.
 struct Discs {

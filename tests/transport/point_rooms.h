@@ -3,6 +3,7 @@
 // chosen points.
 #pragma once
 
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -39,6 +40,26 @@ template <class Map> void map_points(std::vector<Vec3f> &p, std::vector<Vec3f> &
 
 /// The jitter of cells at their exact centres.
 inline std::pair<float, float> no_jitter() { return {0.f, 0.f}; }
+
+/// A value in [0, 1) hashed from (i, salt): jitter and random points without a generator's state.
+inline float hash01(size_t i, int salt) {
+    const double x = std::sin(double(i) * 12.9898 + double(salt) * 78.233) * 43758.5453;
+    return float(x - std::floor(x));
+}
+
+/// A room of points: positions, unit normals, albedos, emitted radiances.
+struct Points {
+    std::vector<Vec3f> p, n, rho, le;
+};
+
+/// The jitter of for_each_face_cell keyed by how many points `out` holds so far: each cell's centre
+/// moves by up to ±amplitude/2 cells per axis — no exact distance ties, so FPS and the cluster
+/// choice do not hinge on float rounding.
+inline auto jitter_by_count(const Points &out, float amplitude) {
+    return [&out, amplitude] {
+        return std::pair{amplitude * (hash01(out.p.size(), 1) - 0.5f), amplitude * (hash01(out.p.size(), 2) - 0.5f)};
+    };
+}
 
 /// The prior's irradiance at points p with normals n: [p.size() × 3].
 inline std::vector<float> gather(const TransportPrior &t, const std::vector<Vec3f> &p, const std::vector<Vec3f> &n) {

@@ -19,20 +19,11 @@ using namespace ltm;
 namespace {
 // Points on a g×g grid per inner face of the box [lo, lo + size], normals inward; `keep` drops
 // points (a door); `le` gives the radiance of face f (0..5: −x, +x, −y, +y, −z, +z).
-struct Points {
-    std::vector<Vec3f> p, n, rho, le;
-};
-float hash01(size_t i, int salt) {
-    const double x = std::sin(double(i) * 12.9898 + double(salt) * 78.233) * 43758.5453;
-    return float(x - std::floor(x));
-}
+using test::hash01;
+using test::Points;
 template <class Keep, class Le> void add_room(Points &out, Vec3f lo, Vec3f size, int g, Keep keep, Le le) {
-    // Jittered in the plane (±0.15 of the spacing): no exact distance ties, so FPS and the cluster
-    // choice do not hinge on float rounding.
-    const auto jitter = [&out] {
-        return std::pair{0.3f * (hash01(out.p.size(), 1) - 0.5f), 0.3f * (hash01(out.p.size(), 2) - 0.5f)};
-    };
-    test::for_each_face_cell(lo, size, g, jitter, [&](int f, Vec3f p, Vec3f n) {
+    // Jittered in the plane (±0.15 of the spacing).
+    test::for_each_face_cell(lo, size, g, test::jitter_by_count(out, 0.3f), [&](int f, Vec3f p, Vec3f n) {
         if (keep(p)) out.p.push_back(p), out.n.push_back(n), out.rho.push_back(Vec3f(0.5f)), out.le.push_back(le(f));
     });
 }

@@ -16,14 +16,7 @@
 using namespace ltm;
 
 namespace {
-struct Points {
-    std::vector<Vec3f> p, n, rho, le;
-};
-
-float hash01(size_t i, int salt) {
-    const double x = std::sin(double(i) * 12.9898 + double(salt) * 78.233) * 43758.5453;
-    return float(x - std::floor(x));
-}
+using test::Points;
 
 // Two rooms side by side, [0, 3]³ and [3.2, 6.2] × [0, 3]², with a door through the wall between
 // them; g×g jittered points per face; coloured walls; a ceiling panel in the first room emits.
@@ -32,10 +25,7 @@ Points two_rooms(int g) {
     const Vec3f origin(0.0137f, 0.0071f, 0.0029f);
     for (int room = 0; room < 2; ++room) {
         const Vec3f lo = origin + Vec3f(3.2f * float(room), 0.f, 0.f);
-        const auto jitter = [&pts] {
-            return std::pair{0.3f * (hash01(pts.p.size(), 1) - 0.5f), 0.3f * (hash01(pts.p.size(), 2) - 0.5f)};
-        };
-        test::for_each_face_cell(lo, Vec3f(3.f), g, jitter, [&](int f, Vec3f p, Vec3f n) {
+        test::for_each_face_cell(lo, Vec3f(3.f), g, test::jitter_by_count(pts, 0.3f), [&](int f, Vec3f p, Vec3f n) {
             const bool in_wall = p.x > 2.9f && p.x < 3.3f;
             if (in_wall && p.y < 2.f && std::abs(p.z - 1.5f) < 0.5f) return;   // the door
             const bool panel = room == 0 && f == 3 && std::abs(p.x - 1.5f) < 0.5f && std::abs(p.z - 1.5f) < 0.5f;

@@ -70,8 +70,6 @@ public:
 
     bool empty() const { return m_place_node.empty(); }
     size_t nodes() const { return m_place_node.size(); }
-    size_t tree_nodes() const { return m_tree.size(); }
-    float theta() const { return m_theta; }
     /// Bytes the tree holds (its arrays; what a receiver's traversal allocates is not counted).
     size_t bytes() const;
 
@@ -129,8 +127,9 @@ private:
         Vec3f centroid{0.f};
         float radius = 0.f;
         Vec3f normal_sum{0.f};
-        float cone = 0.f;              ///< β: the largest angle (radians) between a member's normal and N
-        float cos_cone = 1.f, sin_cone = 0.f, normal_length = 0.f;   ///< cos β, sin β, |N|
+        /// cos β, sin β (β: the largest angle between a member's normal and N; π when the normals
+        /// cancel) and |N|
+        float cos_cone = 1.f, sin_cone = 0.f, normal_length = 0.f;
         float delta = 0.f;             ///< 2 sin(β/2): how far a member's unit normal lies from N̂
         Vec3f box_min{0.f}, box_max{0.f};   ///< the members' bounding box
         float thickness = 0.f;         ///< h: the largest |N̂ · (p_j − c)| (0 for a flat subtree)
@@ -140,7 +139,6 @@ private:
         int32_t child[2] = {-1, -1};   ///< −1: a leaf (≤ 8 places)
         int32_t cluster = -1;          ///< the one cluster under it; −1 above the clusters
         int32_t upper = -1;            ///< its index in m_upper (a cluster's root or above); −1 below
-        uint32_t clo = 0, chi = 0;     ///< its clusters, as a range of the cluster sequence
     };
     template <class Visit> void traverse(Vec3f p, Vec3f n, const View &view, Scratch &scratch, Visit &&visit) const;
     int32_t build(uint32_t lo, uint32_t hi, std::vector<uint32_t> &items, bool clusters, const std::vector<Vec3f> &pos,
@@ -149,7 +147,6 @@ private:
 
     std::vector<Node> m_tree;              ///< preorder: a parent before its children; [0] the root
     std::vector<uint32_t> m_place_node;    ///< [m] the caller's node at each place
-    std::vector<uint32_t> m_cluster_seq;   ///< [C] cluster sequence -> cluster id
     std::vector<uint32_t> m_upper;         ///< the clusters' roots and the nodes above them, ascending
     std::vector<uint8_t> m_visible;        ///< [C, C] the clusters' visibility (ClusterVisibility::visible)
     std::vector<uint8_t> m_upper_state;    ///< [C, U] what cluster c sees of upper node u: 0 none, 1 all, 2 some
