@@ -1,8 +1,11 @@
 // cmd_render_neural.cpp: the libtorch half of `ltm render --method neural`.
+#include <chrono>
+
 #include "cli.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
+#include "ltm/core/startup.h"
 #include "ltm/core/tonemap.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/procgen/training_range.h"
@@ -10,14 +13,26 @@
 
 namespace ltm::cli {
 
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
 void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
+    // What a user waits for besides the render itself (issue #31: the time before the first pixel).
+    const double before_command = process_age_seconds();   // exec, libraries, static initialisers, CLI
+    auto t = Clock::now();
     LoadedModel m = load_model(a.model);
+    const double load_model_s = seconds_since(t);
     if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
     if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
     if (glossy == GlossyShading::head && !m.model->directional)
         LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");
+    t = Clock::now();
     const Scene scene = load_scene(a.scene);
+    const double load_scene_s = seconds_since(t);
+    t = Clock::now();
     for (const auto &w : scene_range_warnings(scene, m.model->cfg.physics.length_scale)) log_warn(a.scene, ": ", w);
     const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);
     const EmbreeAccel accel(scene);
@@ -25,6 +40,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     PathTracerConfig cfg;
     cfg.seed = common.seed;
     const PathTracer pt(accel, cfg);
+    const double accel_s = seconds_since(t);
     NeuralRenderOptions opt;
     opt.direct_spp = a.direct_spp, opt.direct = parse_direct_estimator(a.direct_estimator);
     opt.seed = common.seed, opt.exclude_enclosed = a.exclude_enclosed;
@@ -37,9 +53,11 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     else if (r.n_conductor > 0)
         log_info(r.n_conductor, " conductor pixels shaded by ", r.glossy == GlossyShading::head ? "the directional head" : "one traced bounce",
                  " (", r.glossy_samples, " GGX samples each) in ", format_duration(r.timings.glossy));
+    t = Clock::now();
     write_rendered_image(r.image, a.prefix, a.exposure);
     write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
-    const auto &t = r.timings;
+    const double write_s = seconds_since(t);
+    const auto &rt = r.timings;
     OrderedJson j = {{"scene", a.scene},
                      {"model", a.model},
                      {"width", cam.width},
@@ -54,13 +72,21 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"glossy", glossy_shading_name(r.glossy)},
                      {"glossy_samples", r.glossy_samples},
                      {"threads", common.threads},
-                     {"timings", t.to_json()}};
+                     {"timings", rt.to_json()},
+                     {"outside_render", {{"before_command_s", before_command},
+                                         {"load_model_s", load_model_s},
+                                         {"load_scene_s", load_scene_s},
+                                         {"accel_s", accel_s},
+                                         {"write_images_s", write_s}}}};
     write_file_atomic(a.prefix + ".timings.json", j.dump(2) + "\n");
     log_info("neural render ", cam.width, "x", cam.height, " (", r.n_queries, " queries, ", r.n_decoded, " decoded, ", r.n_scene_points,
-             " scene points) in ", format_duration(t.total), ": encode ", format_duration(t.sample + t.geometry + t.encode),
-             " (sample ", format_duration(t.sample), ", fps/knn ", format_duration(t.geometry), ", ptv3 ",
-             format_duration(t.encode), "), g-buffer ", format_duration(t.gbuffer), ", knn ", format_duration(t.knn),
-             ", decode ", format_duration(t.decode), ", direct ", format_duration(t.direct));
+             " scene points) in ", format_duration(rt.total), ": encode ", format_duration(rt.sample + rt.geometry + rt.encode),
+             " (sample ", format_duration(rt.sample), ", fps/knn ", format_duration(rt.geometry), ", ptv3 ",
+             format_duration(rt.encode), "), g-buffer ", format_duration(rt.gbuffer), ", knn ", format_duration(rt.knn),
+             ", decode ", format_duration(rt.decode), ", direct ", format_duration(rt.direct));
+    log_info("outside the render: ", before_command >= 0 ? "process start to command " + format_duration(before_command) + ", " : std::string(),
+             "weights ", format_duration(load_model_s), ", scene ", format_duration(load_scene_s), ", BVH ", format_duration(accel_s),
+             ", writing the images ", format_duration(write_s));
     log_info("wrote ", a.prefix, ".exr, ", a.prefix, ".png, ", a.prefix, ".irradiance.png, ", a.prefix, ".timings.json");
 }
 

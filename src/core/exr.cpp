@@ -8,15 +8,21 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
+#include <ImfThreading.h>
 
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
+#include "ltm/core/parallel.h"
 
 namespace ltm {
 
 void write_exr(const std::string &path, int width, int height, const std::vector<ExrChannel> &channels) {
     AtomicFile f(path);
     try {
+        // ZIP compresses blocks of 16 scanlines independently: OpenEXR's own pool compresses them in
+        // parallel (a 512² render's 19 float channels: most of the time spent writing), and the bytes
+        // do not depend on the thread count.
+        if (Imf::globalThreadCount() != num_threads()) Imf::setGlobalThreadCount(num_threads());
         Imf::Header header(width, height);
         header.compression() = Imf::ZIP_COMPRESSION;
         for (const auto &c : channels) header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));

@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <sstream>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "ltm/core/error.h"
@@ -14,14 +17,52 @@ namespace fs = std::filesystem;
 
 namespace ltm {
 
-std::string read_file(const std::string &path) {
-    if (fs::is_directory(path)) LTM_THROW(path, ": is a directory, expected a file");
+namespace {
+// Pipes, devices and /proc files (regular, but of size 0) have no size to map: read them as a stream.
+std::string read_stream(const std::string &path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) LTM_THROW(path, ": cannot read: ", std::strerror(errno));
     std::ostringstream ss;
     ss << in.rdbuf();
     if (in.bad()) LTM_THROW(path, ": read error");
     return ss.str();
+}
+}  // namespace
+
+std::string read_file(const std::string &path) {
+    const MappedFile f(path);
+    return std::string(f.bytes());
+}
+
+MappedFile::MappedFile(const std::string &path) {
+    if (fs::is_directory(path)) LTM_THROW(path, ": is a directory, expected a file");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) LTM_THROW(path, ": cannot read: ", std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        const int err = errno;
+        ::close(fd);
+        LTM_THROW(path, ": cannot read: ", std::strerror(err));
+    }
+    if (!S_ISREG(st.st_mode) || st.st_size == 0) {   // /proc files are regular with size 0
+        ::close(fd);
+        m_owned = read_stream(path);
+        m_size = m_owned.size();
+        return;
+    }
+    m_size = size_t(st.st_size);
+    m_data = ::mmap(nullptr, m_size, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (m_data == MAP_FAILED) {
+        const int err = errno;
+        m_data = nullptr;
+        ::close(fd);
+        LTM_THROW(path, ": cannot read: ", std::strerror(err));
+    }
+    ::close(fd);   // the mapping keeps the file
+}
+
+MappedFile::~MappedFile() {
+    if (m_data) ::munmap(m_data, m_size);
 }
 
 AtomicFile::AtomicFile(std::string path, bool binary) : m_path(std::move(path)) {

@@ -71,15 +71,30 @@ LtmModel load_weights(const std::string &path, std::map<std::string, std::string
         LTM_THROW(path, ": architecture version ", meta("arch_version"), ", this build has ", k_arch_version);
     const ModelConfig cfg = ModelConfig::from_json(parse_json(meta("config"), path + " (config)"), path + " (config)");
     LtmModel model(cfg);
-    std::map<std::string, torch::Tensor> tensors;
-    for (const auto &[name, t] : f.tensors) {
+    // Each tensor goes from the mapped file's bytes straight into the parameter the model already
+    // holds (F16 widened on the way): no second set of tensors to allocate and fault in.
+    torch::NoGradGuard no_grad;
+    auto own = state_dict(model);
+    for (const auto &[name, t] : f.tensors)
+        if (!own.count(name)) LTM_THROW(path, ": unexpected tensor '", name, "': weights of another architecture");
+    for (auto &[name, dst] : own) {
+        const auto it = f.tensors.find(name);
+        if (it == f.tensors.end()) LTM_THROW(path, ": missing tensor '", name, "': weights of another architecture");
+        const StTensor &t = it->second;
         // F32 as trained, or F16 (`ltm export --half`, for shipping): computation is always F32.
         if (t.dtype != "F32" && t.dtype != "F16")
             LTM_THROW(path, ": tensor '", name, "' has dtype ", t.dtype, " (weights are F32 or F16)");
-        const auto dtype = t.dtype == "F16" ? torch::kHalf : torch::kFloat32;
-        tensors[name] = torch::from_blob(const_cast<char *>(t.data.data()), t.shape, dtype).to(torch::kFloat32).clone();
+        if (c10::IntArrayRef(t.shape) != dst.sizes())
+            LTM_THROW(path, ": tensor '", name, "' has shape ", c10::IntArrayRef(t.shape), ", the model expects ", dst.sizes());
+        const std::string where = path + ": tensor '" + name + "'";
+        if (dst.is_contiguous() && dst.scalar_type() == torch::kFloat32) {
+            t.copy_f32(dst.data_ptr<float>(), where);
+        } else {
+            auto w = torch::empty(t.shape, torch::kFloat32);
+            t.copy_f32(w.data_ptr<float>(), where);
+            dst.copy_(w);
+        }
     }
-    load_state(model, tensors, path);
     if (metadata) *metadata = f.metadata;
     return model;
 }

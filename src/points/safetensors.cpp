@@ -35,6 +35,39 @@ std::vector<float> StTensor::as_f32(const std::string &where) const {
     return v;
 }
 
+float half_to_float(uint16_t h) {
+    const uint32_t sign = uint32_t(h & 0x8000u) << 16, exponent = (h >> 10) & 0x1fu, mantissa = h & 0x3ffu;
+    uint32_t bits;
+    if (exponent == 0x1fu) {
+        bits = sign | 0x7f800000u | (mantissa << 13);   // ±inf, NaN (payload kept)
+    } else if (exponent != 0) {
+        bits = sign | ((exponent + 112u) << 23) | (mantissa << 13);   // normal: bias 15 -> 127
+    } else {
+        const float f = float(mantissa) * 5.9604644775390625e-8f;   // ±0 and subnormals: m · 2⁻²⁴, exact
+        std::memcpy(&bits, &f, 4);
+        bits |= sign;
+    }
+    float out;
+    std::memcpy(&out, &bits, 4);
+    return out;
+}
+
+void StTensor::copy_f32(float *out, const std::string &where) const {
+    const size_t n = numel();
+    if (dtype == "F32") {
+        std::memcpy(out, data.data(), n * sizeof(float));
+    } else if (dtype == "F16") {
+        const char *src = data.data();
+        for (size_t i = 0; i < n; ++i) {
+            uint16_t h;
+            std::memcpy(&h, src + 2 * i, 2);
+            out[i] = half_to_float(h);
+        }
+    } else {
+        LTM_THROW(where, ": expected dtype F32 or F16, got ", dtype);
+    }
+}
+
 const StTensor &SafetensorsFile::require(const std::string &name, const std::string &dtype,
                                          const std::vector<int64_t> &shape, const std::string &where) const {
     const auto it = tensors.find(name);
@@ -84,12 +117,12 @@ void write_safetensors(const std::string &path, const SafetensorsFile &file) {
     f.commit();
 }
 
-SafetensorsFile parse_safetensors(const std::string &bytes, const std::string &where) {
+SafetensorsFile parse_safetensors(std::string_view bytes, const std::string &where) {
     if (bytes.size() < 8) LTM_THROW(where, ": truncated safetensors file (", bytes.size(), " bytes)");
     uint64_t n = 0;
     std::memcpy(&n, bytes.data(), 8);
     if (n > bytes.size() - 8) LTM_THROW(where, ": header length ", n, " exceeds the file size");
-    const Json header = parse_json(bytes.substr(8, size_t(n)), where + " (header)");
+    const Json header = parse_json(std::string(bytes.substr(8, size_t(n))), where + " (header)");
     if (!header.is_object()) LTM_THROW(where, ": header is not a JSON object");
     const size_t data_start = 8 + size_t(n), data_size = bytes.size() - data_start;
     SafetensorsFile out;
@@ -137,6 +170,9 @@ SafetensorsFile parse_safetensors(const std::string &bytes, const std::string &w
     return out;
 }
 
-SafetensorsFile read_safetensors(const std::string &path) { return parse_safetensors(read_file(path), path); }
+SafetensorsFile read_safetensors(const std::string &path) {
+    const MappedFile f(path);   // each tensor's bytes are copied once, from the page cache
+    return parse_safetensors(f.bytes(), path);
+}
 
 }  // namespace ltm

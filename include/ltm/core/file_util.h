@@ -2,13 +2,31 @@
 // failed or interrupted command never leaves a half-written output behind.
 #pragma once
 
+#include <cstddef>
 #include <fstream>
 #include <string>
+#include <string_view>
 
 namespace ltm {
 
 /// Reads a whole file; throws "path: cannot read: <reason>".
 std::string read_file(const std::string &path);
+
+/// A whole file mapped read-only (mmap): its bytes without a copy, for as long as the object lives
+/// (weights and dataset records are parsed straight from the page cache). Throws as read_file.
+class MappedFile {
+public:
+    explicit MappedFile(const std::string &path);
+    ~MappedFile();
+    MappedFile(const MappedFile &) = delete;
+    MappedFile &operator=(const MappedFile &) = delete;
+    std::string_view bytes() const { return m_data ? std::string_view(static_cast<const char *>(m_data), m_size) : std::string_view(m_owned); }
+
+private:
+    void *m_data = nullptr;
+    size_t m_size = 0;
+    std::string m_owned;   // what a pipe, a /proc file or an empty file held: those are not mapped
+};
 
 /// Writes to "<path>.tmp.<pid>" and renames onto `path` on commit(); removes the temporary
 /// file if destroyed without commit (an exception unwound through the writer).

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ltm {
@@ -17,7 +18,13 @@ struct StTensor {
     size_t numel() const;
     /// Values as float (F32 only); throws naming `where` otherwise.
     std::vector<float> as_f32(const std::string &where) const;
+    /// numel() values as float into `out`, from F32 or F16 (exactly: every half is a float);
+    /// throws naming `where` for any other dtype.
+    void copy_f32(float *out, const std::string &where) const;
 };
+
+/// IEEE 754 binary16 -> binary32, exact for every bit pattern (subnormals, ±inf, NaN payloads).
+float half_to_float(uint16_t h);
 
 struct SafetensorsFile {
     std::map<std::string, StTensor> tensors;
@@ -32,6 +39,6 @@ StTensor make_f32_tensor(const std::vector<int64_t> &shape, const float *values)
 /// Writes atomically (tensors in name order, header padded to 8 bytes).
 void write_safetensors(const std::string &path, const SafetensorsFile &file);
 SafetensorsFile read_safetensors(const std::string &path);
-SafetensorsFile parse_safetensors(const std::string &bytes, const std::string &where);
+SafetensorsFile parse_safetensors(std::string_view bytes, const std::string &where);
 
 }  // namespace ltm
