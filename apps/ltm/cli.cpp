@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <limits>
+#include <map>
 
 #include <CLI/CLI.hpp>
 
@@ -140,6 +142,16 @@ Camera choose_camera(const Scene &scene, const std::string &name, int width, int
     if (width > 0) cam.width = width;
     if (height > 0) cam.height = height;
     return cam;
+}
+
+CLI::Option *add_scene_points_option(CLI::App *sub, int &dst, const std::string &what) {
+    return sub
+        ->add_option("--scene-points", dst,
+                     "Scene points the model samples (" + what +
+                         "; default: the model's own, 8192 for the shipped one); more follow finer detail at more time. auto: "
+                         "16384, or 32768 for scenes of 100k triangles or more, then through the prior's tree (θ 0.5)")
+        ->transform(CLI::Transformer(std::map<std::string, int>{{"auto", -1}}))
+        ->check(CLI::Range(-1, std::numeric_limits<int>::max()));
 }
 
 Shard shard_option(const std::string &flag_value) {

@@ -94,7 +94,7 @@ struct NeuralRenderArgs {
     std::string direct_estimator = "auto";   ///< mis | ratio | auto (infer/neural_renderer.h)
     int glossy_samples = 0;    ///< GGX samples per conductor pixel (0: automatic)
     std::string glossy = "auto";   ///< conductor shading: auto | trace | head | diffuse (GlossyShading)
-    int scene_points = 0;          ///< 0: the model's own M (set_scene_points otherwise)
+    int scene_points = 0;          ///< 0: the model's own M, -1: auto (choose_scene_points)
     double prior_theta = -1;       ///< < 0: the model's own (set_prior_theta otherwise)
 };
 
@@ -103,6 +103,10 @@ inline constexpr const char *k_prior_theta_help =
     "The transport prior through its cluster tree with this opening bound (0: the dense rows; 0.5: far light from "
     "aggregates, O(M log M), needed above 32768 scene points; default: the model's own)";
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
+
+/// `--scene-points N|auto` on render and bake-gi: N into `dst`, "auto" as -1 (the scene's detail
+/// picks M: auto_scene_points, render/scene_points.h).
+CLI::Option *add_scene_points_option(CLI::App *sub, int &dst, const std::string &what);
 
 /// `--shard i/N` when given, else a Slurm array task's SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT,
 /// else 0/1. The CLI reads the environment; the libraries only take a Shard.

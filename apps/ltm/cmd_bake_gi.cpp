@@ -45,8 +45,7 @@ void declare(CLI::App &sub, BakeGiArgs &a) {
     sub.add_option("--direct-spp", a.direct_spp, "Light samples per vertex for E_direct (neural)")
         ->capture_default_str()
         ->check(CLI::Range(1, 1 << 20));
-    sub.add_option("--scene-points", a.scene_points, "Scene points the model samples (neural; default: the model's own)")
-        ->check(CLI::NonNegativeNumber);
+    add_scene_points_option(&sub, a.scene_points, "neural");
     sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
     sub.add_option("--max-edge", a.max_edge, "Longest edge after refinement, scene units (0: the scene's largest extent / 64)")
         ->capture_default_str()
@@ -68,7 +67,7 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     if (!(a.exposure > 0.f)) LTM_THROW("--exposure ", a.exposure, ": must be > 0");
     if (a.method == "neural" && a.model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
     if (a.method == "pathtrace" && !a.model.empty()) LTM_THROW("--model is only used with --method neural");
-    if (a.method == "pathtrace" && (a.scene_points > 0 || a.prior_theta >= 0)) LTM_THROW("--scene-points and --prior-theta are only used with --method neural");
+    if (a.method == "pathtrace" && (a.scene_points != 0 || a.prior_theta >= 0)) LTM_THROW("--scene-points and --prior-theta are only used with --method neural");
     const std::filesystem::path out(a.output);
     if (out.extension() != ".glb") LTM_THROW(a.output, ": the output must be a .glb file");
     if (out.has_parent_path() && !std::filesystem::is_directory(out.parent_path()))
@@ -94,7 +93,7 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
 #if LTM_WITH_TORCH
         LoadedModel m = load_model(a.model);
         if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-        if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
+        choose_scene_points(m.model, a.scene_points, scene, a.prior_theta >= 0);
         const EncodedScene enc = encode_scene(m.model, accel, common.seed);
         indirect = predict_gbuffer(m.model, enc, gb);
         // Direct light as `ltm render --method neural` computes it (ratio estimator when every

@@ -56,9 +56,7 @@ void declare(CLI::App &sub, RenderArgs &a) {
     sub.add_option("--guide-alpha", a.guide_alpha, "BSDF share α of the defensive mixture α·BSDF + (1−α)·guide (guided)")
         ->capture_default_str()
         ->check(CLI::Range(0.001, 1.0));
-    sub.add_option("--scene-points", a.scene_points,
-                   "Scene points the model samples (neural, guided; default: the model's own, 8192 for the shipped one); more follow finer detail, at ~M^2 time and memory")
-        ->check(CLI::NonNegativeNumber);
+    add_scene_points_option(&sub, a.scene_points, "neural, guided");
     sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
     sub.add_option("--direct-spp", a.direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
         ->capture_default_str();
@@ -100,7 +98,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     if (a.method == "guided") LTM_THROW("--method guided: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
     #endif
     if (!a.model.empty() && a.method != "guided") LTM_THROW("--model is only used with --method neural or guided");
-    if (a.scene_points > 0 && a.method == "pathtrace") LTM_THROW("--scene-points is only used with --method neural or guided");
+    if (a.scene_points != 0 && a.method == "pathtrace") LTM_THROW("--scene-points is only used with --method neural or guided");
     if (a.prior_theta >= 0 && a.method == "pathtrace") LTM_THROW("--prior-theta is only used with --method neural or guided");
     if (a.gi_stride != 1) LTM_THROW("--gi-stride is only used with --method neural");
     if (a.direct_estimator != "auto") LTM_THROW("--direct-estimator is only used with --method neural");
@@ -120,7 +118,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     if (a.method == "guided") {
         LoadedModel m = load_model(a.model);
         if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-        if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
+        choose_scene_points(m.model, a.scene_points, scene, a.prior_theta >= 0);
         GuideBuildOptions go;
         go.points = a.guide_points, go.resolution = a.guide_resolution, go.seed = common.seed;
         guide = build_guide_cache(m.model, accel, go);

@@ -317,6 +317,16 @@ void set_scene_points(LtmModel &model, int64_t n) {
     model->cfg.scene_points = int(n);
 }
 
+void choose_scene_points(LtmModel &model, int64_t requested, const Scene &scene, bool theta_given) {
+    if (requested == 0) return;
+    if (requested != k_scene_points_auto) return set_scene_points(model, requested);
+    const int64_t m = auto_scene_points(scene);
+    const bool tree = !theta_given && m > model->cfg.scene_points && model->cfg.physics.prior_field == "transport";
+    if (tree) set_prior_theta(model, 0.5);
+    set_scene_points(model, m);
+    log_info("--scene-points auto: ", m, " scene points for ", scene.n_triangles(), " triangles", tree ? ", the prior through its tree (θ 0.5)" : "");
+}
+
 void set_prior_theta(LtmModel &model, double theta) {
     if (!(theta >= 0.0 && theta <= 1.0)) LTM_THROW("--prior-theta ", theta, ": must be in [0, 1] (0: the dense rows)");
     if (model->cfg.physics.prior_field != "transport")

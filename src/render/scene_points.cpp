@@ -82,4 +82,6 @@ ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint
     return out;
 }
 
+int64_t auto_scene_points(const Scene &scene) { return scene.n_triangles() < k_auto_detail_triangles ? 16384 : 32768; }
+
 }  // namespace ltm

@@ -240,6 +240,28 @@ TEST(BadInput, ScenePointsOutOfBoundsIsOneLineNamingTheLimit) {
     EXPECT_EQ(dir.count(), n) << "no partial output";
 }
 
+// `--scene-points auto`: the scene's detail picks M (16 384 for the Cornell box's 32 triangles) and
+// the prior then goes through its tree; the render says so and records M. A word other than auto is
+// a usage error (exit 2), and the path tracer refuses it as any --scene-points.
+TEST(BadInput, ScenePointsAutoPicksFromTheSceneOrIsAUsageError) {
+    test::TempDir dir;
+    const std::string model = test::source_path("models/ltm-cpu.safetensors");
+    const Result a = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "auto", "--width",
+                          "16", "--height", "16", "-o", dir.path("auto")});
+    ASSERT_EQ(a.code, 0) << a.err;
+    EXPECT_NE(a.err.find("--scene-points auto: 16384 scene points for 32 triangles, the prior through its tree"), std::string::npos) << a.err;
+    EXPECT_NE(read_file(dir.path("auto.timings.json")).find("\"scene_points\": 16384"), std::string::npos);
+    const size_t n = dir.count();
+    const Result w = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "many", "-o",
+                          dir.path("w")});
+    EXPECT_EQ(w.code, 2) << w.err;
+    EXPECT_NE(w.err.find("--scene-points"), std::string::npos) << w.err;
+    const Result p = run({"render", "builtin:cornell-box", "--scene-points", "auto", "--width", "16", "--height", "16", "-o", dir.path("p")});
+    EXPECT_EQ(p.code, 1) << p.err;
+    EXPECT_NE(p.err.find("--scene-points is only used with --method neural"), std::string::npos) << p.err;
+    EXPECT_EQ(dir.count(), n) << "no partial output";
+}
+
 // The cluster tree renders the shipped model's prior past the dense bound: 40 000 scene points of
 // the Cornell box with --prior-theta 0.5, an image written, its mean E⁺ within 5 % of the dense rows'
 // at 8 192 points (the same prior, finer points).

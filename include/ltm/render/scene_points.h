@@ -41,4 +41,14 @@ constexpr int64_t k_emitter_share_inv = 128;
 ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed = true,
                                 float buried_spacings = k_buried_spacings);
 
+/// `--scene-points auto` (issue #31): M from the scene's modelled detail, its triangle count T.
+/// Measured (docs/performance.md, "The prior through a cluster tree"): generated houses (1–5 k
+/// triangles) stop gaining at M = 16 384 (view MSE 0.0036 → 0.0029, then level to 65 536), real
+/// rooms (0.25–1.4 M triangles) keep gaining to 32 768 (0.0096 → 0.0073; 65 536: 0.0075) at ~5× the
+/// time. So 16 384 below k_auto_detail_triangles triangles and 32 768 at or above. The rule is fitted
+/// to those 16 houses and five rooms; a scene with little modelled detail but large flat walls
+/// would want more than it gives.
+inline constexpr size_t k_auto_detail_triangles = 100000;
+int64_t auto_scene_points(const Scene &scene);
+
 }  // namespace ltm
