@@ -93,7 +93,8 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
 #if LTM_WITH_TORCH
         LoadedModel m = load_model(a.model);
         if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-        choose_scene_points(m.model, a.scene_points, scene, a.prior_theta >= 0);
+        if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
+        if (a.scene_points == k_scene_points_auto) set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
         const EncodedScene enc = encode_scene(m.model, accel, common.seed);
         indirect = predict_gbuffer(m.model, enc, gb);
         // Direct light as `ltm render --method neural` computes it (ratio estimator when every

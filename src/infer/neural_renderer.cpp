@@ -317,9 +317,7 @@ void set_scene_points(LtmModel &model, int64_t n) {
     model->cfg.scene_points = int(n);
 }
 
-void choose_scene_points(LtmModel &model, int64_t requested, const Scene &scene, bool theta_given) {
-    if (requested == 0) return;
-    if (requested != k_scene_points_auto) return set_scene_points(model, requested);
+void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given) {
     const int64_t m = auto_scene_points(scene);
     const bool tree = !theta_given && m > model->cfg.scene_points && model->cfg.physics.prior_field == "transport";
     if (tree) set_prior_theta(model, 0.5);

@@ -39,12 +39,12 @@ void set_scene_points(LtmModel &model, int64_t n);
 /// dense rows; `--prior-theta`, transport/prior_hierarchy.h). Call before set_scene_points (its bound
 /// depends on it). Throws a one-line error for theta outside [0, 1] or a model without the transport prior.
 void set_prior_theta(LtmModel &model, double theta);
-/// `--scene-points` as given: 0 keeps the model's M, k_scene_points_auto picks auto_scene_points(scene)
-/// (render/scene_points.h) and, unless the tree's θ was given (theta_given), solves through the
-/// prior's tree at θ 0.5 when that M is above the model's (faster and ~1/3 of the memory there,
-/// measured), any other n is set_scene_points(n). Logs what auto chose. Call after set_prior_theta.
+/// `--scene-points auto`: set_scene_points(auto_scene_points(scene)) (render/scene_points.h) and,
+/// unless the tree's θ was given (theta_given), the prior through its tree at θ 0.5 when that M is
+/// above the model's (faster and ~1/3 of the memory there, measured). Logs what it chose. Call after
+/// set_prior_theta. (The CLI holds "auto" as k_scene_points_auto.)
 inline constexpr int64_t k_scene_points_auto = -1;
-void choose_scene_points(LtmModel &model, int64_t requested, const Scene &scene, bool theta_given);
+void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given);
 
 struct EncodedScene {
     SceneLatents latents;
