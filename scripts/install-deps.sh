@@ -10,6 +10,7 @@ packages=(
   libspdlog-dev libfmt-dev libstb-dev libopenexr-dev zlib1g-dev libtinygltf-dev
   assimp-utils
   libgtest-dev libgmock-dev libbenchmark-dev
+  chromium   # the viewer's test in a real browser (tests/web/viewer_test.sh; it skips without it)
 )
 # libtorch is needed only for the model layers (LTM_WITH_TORCH=ON, the default).
 if [[ "${LTM_WITH_TORCH:-ON}" != "OFF" ]]; then
