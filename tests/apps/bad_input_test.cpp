@@ -46,6 +46,29 @@ void expect_error(const test::TempDir &dir, size_t files_before, const std::vect
 }
 }  // namespace
 
+// ltm bake-gi (issue #32): an unwritable or non-.glb output, a scene with no area light, and a
+// refinement over the vertex budget are each one line and exit 1, with no partial .glb (the path
+// tracer's bake, so the test needs no weights).
+TEST(BadInput, BakeGiRefusesBadOutputsDarkScenesAndOverBudgetRefinements) {
+    test::TempDir dir;
+    save_scene_json(cornell_box(), dir.path("ok.json"));
+    Scene dark = cornell_box();
+    dark.materials[size_t(dark.find_material("light"))].emission = Texture::constant(Vec3f(0.f));
+    save_scene_json(dark, dir.path("dark.json"));
+    const size_t n = dir.count();
+    const std::vector<std::string> pt = {"--method", "pathtrace", "--spp", "1"};
+    auto bake = [&](std::vector<std::string> args) {
+        args.insert(args.begin(), "bake-gi");
+        args.insert(args.end(), pt.begin(), pt.end());
+        return args;
+    };
+    expect_error(dir, n, bake({dir.path("ok.json"), "-o", dir.path("missing/out.glb")}), "bake-gi", "does not exist");
+    expect_error(dir, n, bake({dir.path("ok.json"), "-o", dir.path("out.gltf")}), "bake-gi", "must be a .glb file");
+    expect_error(dir, n, bake({dir.path("dark.json"), "-o", dir.path("out.glb")}), "bake-gi", "no emitter");
+    expect_error(dir, n, bake({dir.path("ok.json"), "--max-edge", "0.001", "--max-vertices", "1000", "-o", dir.path("out.glb")}),
+                 "bake-gi", "over the budget of 1000");
+}
+
 TEST(BadInput, SampleRejectsBadScenesAndCounts) {
     test::TempDir dir;
     save_scene_json(cornell_box(), dir.path("ok.json"));
