@@ -44,6 +44,14 @@ void expect_error(const test::TempDir &dir, size_t files_before, const std::vect
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
     EXPECT_EQ(dir.count(), files_before) << "no partial output for: " << r.err;
 }
+
+// ok.json: the Cornell box; dark.json: the same box with its light's emission zeroed (no emitter).
+void write_lit_and_dark_boxes(const test::TempDir &dir) {
+    save_scene_json(cornell_box(), dir.path("ok.json"));
+    Scene dark = cornell_box();
+    dark.materials[size_t(dark.find_material("light"))].emission = Texture::constant(Vec3f(0.f));
+    save_scene_json(dark, dir.path("dark.json"));
+}
 }  // namespace
 
 // ltm bake-gi (issue #32): an unwritable or non-.glb output, a scene with no area light, and a
@@ -51,10 +59,7 @@ void expect_error(const test::TempDir &dir, size_t files_before, const std::vect
 // tracer's bake, so the test needs no weights).
 TEST(BadInput, BakeGiRefusesBadOutputsDarkScenesAndOverBudgetRefinements) {
     test::TempDir dir;
-    save_scene_json(cornell_box(), dir.path("ok.json"));
-    Scene dark = cornell_box();
-    dark.materials[size_t(dark.find_material("light"))].emission = Texture::constant(Vec3f(0.f));
-    save_scene_json(dark, dir.path("dark.json"));
+    write_lit_and_dark_boxes(dir);
     const size_t n = dir.count();
     const std::vector<std::string> pt = {"--method", "pathtrace", "--spp", "1"};
     auto bake = [&](std::vector<std::string> args) {
@@ -71,10 +76,7 @@ TEST(BadInput, BakeGiRefusesBadOutputsDarkScenesAndOverBudgetRefinements) {
 
 TEST(BadInput, SampleRejectsBadScenesAndCounts) {
     test::TempDir dir;
-    save_scene_json(cornell_box(), dir.path("ok.json"));
-    Scene dark = cornell_box();
-    dark.materials[size_t(dark.find_material("light"))].emission = Texture::constant(Vec3f(0.f));
-    save_scene_json(dark, dir.path("dark.json"));
+    write_lit_and_dark_boxes(dir);
     std::string text = read_file(dir.path("ok.json"));
     write_file_atomic(dir.path("trunc.json"), text.substr(0, text.size() / 3));
     write_file_atomic(dir.path("nan.json"), std::string(text).replace(text.find("\"positions\": [") + 14, 1, "NaN, 0"));
