@@ -94,7 +94,7 @@ struct NeuralRenderArgs {
     std::string direct_estimator = "auto";   ///< mis | ratio | auto (infer/neural_renderer.h)
     int glossy_samples = 0;    ///< GGX samples per conductor pixel (0: automatic)
     std::string glossy = "auto";   ///< conductor shading: auto | trace | head | diffuse (GlossyShading)
-    int scene_points = 0;          ///< 0: the model's own M, -1: auto (choose_scene_points)
+    int scene_points = 0;          ///< 0: the model's own M, -1: auto (set_auto_scene_points)
     double prior_theta = -1;       ///< < 0: the model's own (set_prior_theta otherwise)
 };
 

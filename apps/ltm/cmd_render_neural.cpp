@@ -15,7 +15,6 @@ namespace ltm::cli {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
 
 void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {

@@ -47,7 +47,6 @@ MappedFile::MappedFile(const std::string &path) {
     if (!S_ISREG(st.st_mode) || st.st_size == 0) {   // /proc files are regular with size 0
         ::close(fd);
         m_owned = read_stream(path);
-        m_size = m_owned.size();
         return;
     }
     m_size = size_t(st.st_size);

@@ -7,6 +7,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/rng.h"
 #include "ltm/infer/traced_bounce.h"
 #include "ltm/nn/checkpoint.h"
@@ -18,7 +19,6 @@ namespace ltm {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
 
 LoadedModel load_model(const std::string &path) {

@@ -43,18 +43,30 @@ void save_weights(const std::string &path, LtmModel &model, const std::map<std::
     write_safetensors(path, f);
 }
 
-void load_state(LtmModel &model, const std::map<std::string, torch::Tensor> &tensors, const std::string &where) {
+namespace {
+// The model's parameters and buffers against named sources: the same names on both sides and equal
+// shapes, else a one-line error naming `where`; then fill(name, dst, source) for each, without autograd.
+// load_state copies tensors, load_weights widens a file's bytes in place: one set of checks for both.
+template <class Source, class ShapeOf, class Fill>
+void fill_state(LtmModel &model, const std::map<std::string, Source> &sources, const std::string &where, ShapeOf shape_of, Fill fill) {
     torch::NoGradGuard no_grad;
     auto own = state_dict(model);
-    for (const auto &[name, t] : tensors)
+    for (const auto &[name, s] : sources)
         if (!own.count(name)) LTM_THROW(where, ": unexpected tensor '", name, "': weights of another architecture");
     for (auto &[name, dst] : own) {
-        const auto it = tensors.find(name);
-        if (it == tensors.end()) LTM_THROW(where, ": missing tensor '", name, "': weights of another architecture");
-        if (it->second.sizes() != dst.sizes())
-            LTM_THROW(where, ": tensor '", name, "' has shape ", it->second.sizes(), ", the model expects ", dst.sizes());
-        dst.copy_(it->second);
+        const auto it = sources.find(name);
+        if (it == sources.end()) LTM_THROW(where, ": missing tensor '", name, "': weights of another architecture");
+        const c10::IntArrayRef shape = shape_of(it->second);
+        if (shape != dst.sizes()) LTM_THROW(where, ": tensor '", name, "' has shape ", shape, ", the model expects ", dst.sizes());
+        fill(name, dst, it->second);
     }
+}
+}  // namespace
+
+void load_state(LtmModel &model, const std::map<std::string, torch::Tensor> &tensors, const std::string &where) {
+    fill_state(
+        model, tensors, where, [](const torch::Tensor &t) { return t.sizes(); },
+        [](const std::string &, torch::Tensor &dst, const torch::Tensor &t) { dst.copy_(t); });
 }
 
 LtmModel load_weights(const std::string &path, std::map<std::string, std::string> *metadata) {
@@ -70,31 +82,21 @@ LtmModel load_weights(const std::string &path, std::map<std::string, std::string
     if (meta("arch_version") != std::to_string(k_arch_version))
         LTM_THROW(path, ": architecture version ", meta("arch_version"), ", this build has ", k_arch_version);
     const ModelConfig cfg = ModelConfig::from_json(parse_json(meta("config"), path + " (config)"), path + " (config)");
-    LtmModel model(cfg);
-    // Each tensor goes from the mapped file's bytes straight into the parameter the model already
-    // holds (F16 widened on the way): no second set of tensors to allocate and fault in.
-    torch::NoGradGuard no_grad;
-    auto own = state_dict(model);
-    for (const auto &[name, t] : f.tensors)
-        if (!own.count(name)) LTM_THROW(path, ": unexpected tensor '", name, "': weights of another architecture");
-    for (auto &[name, dst] : own) {
-        const auto it = f.tensors.find(name);
-        if (it == f.tensors.end()) LTM_THROW(path, ": missing tensor '", name, "': weights of another architecture");
-        const StTensor &t = it->second;
-        // F32 as trained, or F16 (`ltm export --half`, for shipping): computation is always F32.
+    for (const auto &[name, t] : f.tensors)   // F32 as trained, or F16 (`ltm export --half`, for shipping)
         if (t.dtype != "F32" && t.dtype != "F16")
             LTM_THROW(path, ": tensor '", name, "' has dtype ", t.dtype, " (weights are F32 or F16)");
-        if (c10::IntArrayRef(t.shape) != dst.sizes())
-            LTM_THROW(path, ": tensor '", name, "' has shape ", c10::IntArrayRef(t.shape), ", the model expects ", dst.sizes());
-        const std::string where = path + ": tensor '" + name + "'";
-        if (dst.is_contiguous() && dst.scalar_type() == torch::kFloat32) {
-            t.copy_f32(dst.data_ptr<float>(), where);
-        } else {
+    LtmModel model(cfg);
+    // Each tensor goes from the mapped file's bytes straight into the parameter the model already
+    // holds (F16 widened on the way; computation is always F32): no second set of tensors to fault in.
+    fill_state(
+        model, f.tensors, path, [](const StTensor &t) { return c10::IntArrayRef(t.shape); },
+        [&](const std::string &name, torch::Tensor &dst, const StTensor &t) {
+            const std::string where = path + ": tensor '" + name + "'";
+            if (dst.is_contiguous() && dst.scalar_type() == torch::kFloat32) return t.copy_f32(dst.data_ptr<float>(), where);
             auto w = torch::empty(t.shape, torch::kFloat32);
             t.copy_f32(w.data_ptr<float>(), where);
             dst.copy_(w);
-        }
-    }
+        });
     if (metadata) *metadata = f.metadata;
     return model;
 }

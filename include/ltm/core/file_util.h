@@ -23,7 +23,7 @@ public:
     std::string_view bytes() const { return m_data ? std::string_view(static_cast<const char *>(m_data), m_size) : std::string_view(m_owned); }
 
 private:
-    void *m_data = nullptr;
+    void *m_data = nullptr;   // the mapping, and its length
     size_t m_size = 0;
     std::string m_owned;   // what a pipe, a /proc file or an empty file held: those are not mapped
 };

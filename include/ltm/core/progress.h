@@ -38,5 +38,9 @@ private:
 std::string format_count(double v);
 /// "1 h 02 min", "3.4 s".
 std::string format_duration(double seconds);
+/// Seconds on the steady clock since `t` (a stage's timing: t = steady_clock::now(), work, then this).
+inline double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 
 }  // namespace ltm

@@ -26,7 +26,7 @@ void save_weights(const std::string &path, LtmModel &model, const std::map<std::
 /// format/architecture version, missing/unexpected tensors, or shape mismatches.
 LtmModel load_weights(const std::string &path, std::map<std::string, std::string> *metadata = nullptr);
 
-/// Copies tensors into an existing model (same checks); used by load_weights and tests.
+/// Copies tensors into an existing model (the same name and shape checks as load_weights); used by the trainer and tests.
 void load_state(LtmModel &model, const std::map<std::string, torch::Tensor> &tensors, const std::string &where);
 
 struct TrainState {
