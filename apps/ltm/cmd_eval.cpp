@@ -33,9 +33,7 @@ struct EvalArgs {
 void declare(CLI::App &sub, EvalArgs &a) {
     sub.add_option("--model", a.model, "Weights (.safetensors from ltm export)")->required();
     sub.add_option("--ablation", a.ablations, "More models to compare: NAME=weights.safetensors (repeatable)");
-    sub.add_option("--scene-points", a.scene_points,
-                   "Scene points every model samples (default: each model's own, 8192 for the shipped one)")
-        ->check(CLI::NonNegativeNumber);
+    add_scene_points_option(&sub, a.scene_points, "every model, every scene; auto: each scene its own");
     sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
     sub.add_option("--scenes", a.scenes, "Generator seed ranges A:B and/or scene files (keep seeds disjoint from training)")
         ->required();
@@ -92,6 +90,7 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     for (auto &m : models) {
         if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
         if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
+        if (a.scene_points == k_scene_points_auto) m.enable_auto_scene_points(a.prior_theta >= 0);
     }
     // Scenes: seed ranges are generated in memory, files are loaded.
     const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
@@ -147,7 +146,9 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     j["ablations"] = a.ablations;
     j["scenes"] = a.scenes;
     j["threads"] = common.threads;
-    j["scene_points"] = models.front().model->cfg.scene_points;   // the models' M (--scene-points or their own)
+    // The models' M (--scene-points or their own; with auto, each view's model rows carry theirs).
+    if (a.scene_points == k_scene_points_auto) j["scene_points"] = "auto";
+    else j["scene_points"] = models.front().model->cfg.scene_points;
     write_file_atomic(a.output + "/report.json", j.dump(2) + "\n");
     const std::string table = r.table_markdown();
     write_file_atomic(a.output + "/table.md", table);

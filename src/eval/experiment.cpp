@@ -68,6 +68,19 @@ Image reference_image(const EvalScene &es, const Camera &cam, const GBuffer &gb,
 
 }  // namespace
 
+void EvalModel::enable_auto_scene_points(bool theta_was_given) {
+    auto_scene_points = true, theta_given = theta_was_given;
+    fixed = {model->cfg.scene_points, model->cfg.physics.prior_theta};
+}
+
+int64_t EvalModel::fit_scene_points(const Scene &scene) {
+    if (auto_scene_points) {
+        model->cfg.scene_points = fixed.scene_points, model->cfg.physics.prior_theta = fixed.prior_theta;
+        set_auto_scene_points(model, scene, theta_given);
+    }
+    return model->cfg.scene_points;
+}
+
 EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<EvalModel> &models, const EvalOptions &opt) {
     if (opt.views < 1) LTM_THROW("eval: views must be >= 1, got ", opt.views);
     if (opt.ref_spp < 1 || opt.baseline_spp < 1) LTM_THROW("eval: samples per pixel must be >= 1");
@@ -84,7 +97,13 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         const PathTracer pt_ref(accel, tracer_config(EvalRole::reference)), pt_64(accel, tracer_config(EvalRole::baseline)),
             pt_eq(accel, tracer_config(EvalRole::equal_time));
         const auto t_prior = Clock::now();
-        const int64_t n_points = models.empty() ? 8192 : models.front().model->cfg.scene_points;
+        std::vector<int64_t> model_points;
+        for (auto &m : models) model_points.push_back(m.fit_scene_points(es.scene));
+        // The closed-form rows below solve densely: at the first model's M, or with auto at the M it
+        // was loaded with (auto's M goes through the tree; dense rows at 32 768 would hold ~4 GB).
+        const int64_t n_points = models.empty()                      ? 8192
+                                 : models.front().auto_scene_points ? models.front().fixed.scene_points
+                                                                    : model_points.front();
         const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
         const auto prior = power_balance_irradiance(sampled.points, PathTracerConfig{}.max_depth, &sampled.emission_scale);
         const double prior_seconds = std::chrono::duration<double>(Clock::now() - t_prior).count();
@@ -119,8 +138,8 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
             const Image ref = reference_image(es, cam, gb, pt_ref, tracer_config(EvalRole::reference), opt, &vr);
             const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
-            auto add = [&](const std::string &method, const Image &img, double secs, int spp) {
-                vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits)});
+            auto add = [&](const std::string &method, const Image &img, double secs, int spp, int64_t points = 0) {
+                vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits), points});
             };
             std::vector<Image> model_images;
             double first_model_seconds = 0;
@@ -133,13 +152,14 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 // A single frame pays the encoder too: the model's time is encode + kNN + decode.
                 const double secs = e.sample_seconds + e.geometry_seconds + e.encode_seconds + decode_s;
                 if (mi == 0) first_model_seconds = secs;
-                add("model:" + models[mi].name, pred, secs, 0);
+                add("model:" + models[mi].name, pred, secs, 0, e.n_scene_points);
                 model_images.push_back(pred);
                 // The model's own prior, the network silenced: what the network adds is the row above against this.
                 const auto t_prior_row = Clock::now();
                 const Image prior_only = scatter_to_image(gb, predict_gbuffer_prior(encoded[mi], gb));
                 add("model-prior:" + models[mi].name, prior_only,
-                    e.sample_seconds + e.geometry_seconds + std::chrono::duration<double>(Clock::now() - t_prior_row).count(), 0);
+                    e.sample_seconds + e.geometry_seconds + std::chrono::duration<double>(Clock::now() - t_prior_row).count(), 0,
+                    e.n_scene_points);
                 if (opt.gi_stride > 1) {
                     GiUpsampleOptions gi;
                     gi.stride = opt.gi_stride;
@@ -147,7 +167,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                     const Image up = scatter_to_image(gb, predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
                     const double up_s = e.sample_seconds + e.geometry_seconds + e.encode_seconds +
                                         std::chrono::duration<double>(Clock::now() - t1).count();
-                    add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride), up, up_s, 0);
+                    add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride), up, up_s, 0, e.n_scene_points);
                 }
             }
             const IrradianceImages b64 = irradiance_images(pt_64, gb, opt.baseline_spp, true);
@@ -233,8 +253,11 @@ OrderedJson EvalReport::to_json() const {
     OrderedJson vs = OrderedJson::array();
     for (const auto &v : views) {
         OrderedJson mj = OrderedJson::array();
-        for (const auto &m : v.methods)
-            mj.push_back({{"method", m.method}, {"metrics", metrics_json(m)}, {"seconds", m.seconds}, {"spp", m.spp}});
+        for (const auto &m : v.methods) {
+            OrderedJson row{{"method", m.method}, {"metrics", metrics_json(m)}, {"seconds", m.seconds}, {"spp", m.spp}};
+            if (m.scene_points > 0) row["scene_points"] = m.scene_points;
+            mj.push_back(std::move(row));
+        }
         vs.push_back({{"scene", v.scene}, {"view", v.view}, {"pixels", v.pixels},
                       {"reference_seconds", v.reference_seconds}, {"reference_cached", v.reference_cached}, {"methods", mj}});
     }

@@ -93,6 +93,7 @@ PhysicsReport run_physics_checks(const std::vector<EvalScene> &scenes, std::vect
         };
         const Color3d ref_base = reference(es.scene, ""), ref_recolored = n_recolored > 0 ? reference(recolored, "-recolored") : ref_base;
         for (auto &m : models) {
+            m.fit_scene_points(es.scene);   // scaled twins keep its triangles, so its M
             SceneCheck c;
             c.scene = es.name, c.model = m.name, c.recolored_meshes = n_recolored;
             const std::vector<Vec3f> base = predict(m.model, es.scene, gb, opt);
@@ -124,8 +125,10 @@ PhysicsReport run_physics_checks(const std::vector<EvalScene> &scenes, std::vect
     const GBuffer fgb = render_gbuffer(faccel, fcam);
     double series = 0, term = 1;
     for (int k = 1; k <= opt.furnace_bounces; ++k) series += (term *= double(opt.furnace_albedo));
-    for (auto &m : models)
+    for (auto &m : models) {
+        m.fit_scene_points(furnace);
         report.furnace.push_back({m.name, luminance(mean_color(predict(m.model, furnace, fgb, opt))), double(k_pi) * series});
+    }
     return report;
 }
 

@@ -47,6 +47,7 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
     for (size_t si = 0; si < scenes.size(); ++si) {
         const EvalScene &es = scenes[si];
         const EmbreeAccel accel(es.scene);
+        for (auto &m : models) m.fit_scene_points(es.scene);
         auto tracer = [&](EvalRole role) { return PathTracer(accel, eval_tracer_config(o.seed, role)); };
         const PathTracer pt_ref = tracer(EvalRole::reference), pt_base = tracer(EvalRole::baseline),
                          pt_eq = tracer(EvalRole::equal_time), pt_neural = tracer(EvalRole::neural_direct);

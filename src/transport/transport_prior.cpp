@@ -269,14 +269,13 @@ std::vector<Vec3f> dense_bounces(const std::vector<Vec3f> &position, const std::
 
 // The hierarchical solve (transport/prior_hierarchy.h): each bounce gathers B_k at every node
 // through the tree, Ĝ never stored densely. The first pass records each node's row (its aggregates'
-// and exact terms: ~9 KB a node in a house at M = 65 536) while they fit in k_row_budget, and the
-// later bounces apply the recorded rows instead of walking the tree again; rows beyond the budget
-// are walked again. The result is the same either way. Same outputs as dense_bounces.
-constexpr size_t k_row_budget = size_t(768) << 20;
+// and exact terms) while they fit in row_budget bytes (k_prior_row_budget), and the later bounces
+// apply the recorded rows instead of walking the tree again; rows beyond the budget are walked
+// again. The result is the same either way. Same outputs as dense_bounces.
 
 std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                 const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance, int bounces,
-                                const ClusterVisibility &vis, bool want_mean, Vec3f &mean_e) {
+                                const ClusterVisibility &vis, bool want_mean, Vec3f &mean_e, size_t row_budget) {
     const size_t m = position.size();
     std::vector<double> den(m, 0.0);
     std::vector<float> closure(m, 1.f);
@@ -305,7 +304,7 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
                     if (first) {
                         den[j] = scratch.row.den;
                         const size_t bytes = scratch.row.bytes();
-                        if (kept_bytes.fetch_add(bytes) + bytes <= k_row_budget) rows[j] = scratch.row, kept[j] = 1;
+                        if (kept_bytes.fetch_add(bytes) + bytes <= row_budget) rows[j] = scratch.row, kept[j] = 1;
                     }
                 }
                 for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
@@ -328,7 +327,7 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
                                      float node_area, int bounces, ClusterVisibility visibility, PriorBalance balance,
-                                     bool patches, float theta) {
+                                     bool patches, float theta, size_t row_budget) {
     const size_t m = position.size();
     if (m == 0) LTM_THROW("transport prior: no nodes");
     if (normal.size() != m || albedo.size() != m || radiance.size() != m)
@@ -348,7 +347,7 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     if (bounces == 0) return out;
     const bool balanced = !vis.empty() && balance != PriorBalance::none;
     Vec3f mean_e(0.f);
-    std::vector<Vec3f> ex = out.tree ? tree_bounces(*out.tree, position, normal, albedo, radiance, bounces, vis, balanced, mean_e)
+    std::vector<Vec3f> ex = out.tree ? tree_bounces(*out.tree, position, normal, albedo, radiance, bounces, vis, balanced, mean_e, row_budget)
                                      : dense_bounces(position, normal, albedo, radiance, node_area, bounces, vis, patches, balanced, mean_e);
     Vec3f gain(1.f);
     if (balanced) {

@@ -287,6 +287,23 @@ TEST(BadInput, ScenePointsAutoPicksFromTheSceneOrIsAUsageError) {
     EXPECT_EQ(dir.count(), n) << "no partial output";
 }
 
+// `ltm eval --scene-points auto`: each scene's model rows record the M its size picked (16 384 for
+// the Cornell box), the report says auto; a word other than auto is a usage error.
+TEST(BadInput, EvalScenePointsAutoPerScene) {
+    test::TempDir dir;
+    const std::string model = test::source_path("models/ltm-cpu.safetensors");
+    const Result a = run({"eval", "--model", model, "--scenes", "builtin:cornell-box", "--scene-points", "auto", "--width", "16",
+                          "--height", "16", "--ref-spp", "4", "--baseline-spp", "1", "--no-grids", "-o", dir.path("auto")});
+    ASSERT_EQ(a.code, 0) << a.err;
+    const std::string report = read_file(dir.path("auto/report.json"));
+    EXPECT_NE(report.find("\"scene_points\": \"auto\""), std::string::npos);
+    EXPECT_NE(report.find("\"scene_points\": 16384"), std::string::npos) << "the model rows' M";
+    EXPECT_NE(a.err.find("--scene-points auto: 16384 scene points for 32 triangles"), std::string::npos) << a.err;
+    const Result w = run({"eval", "--model", model, "--scenes", "builtin:cornell-box", "--scene-points", "most", "-o", dir.path("w")});
+    EXPECT_EQ(w.code, 2) << w.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("w"))) << "no partial output";
+}
+
 // The cluster tree renders the shipped model's prior past the dense bound: 40 000 scene points of
 // the Cornell box with --prior-theta 0.5, an image written, its mean E⁺ within 5 % of the dense rows'
 // at 8 192 points (the same prior, finer points).

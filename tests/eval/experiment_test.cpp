@@ -6,6 +6,8 @@
 
 #include "ltm/eval/experiment.h"
 #include "ltm/eval/reference_cache.h"
+#include "ltm/infer/neural_renderer.h"
+#include "ltm/render/scene_points.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "test_util.h"
 
@@ -46,6 +48,38 @@ TEST(ReferenceCache, EvaluationReusesTheCachedReference) {
     const EvalReport uncached = run_evaluation(scenes, no_models, opt);
     EXPECT_FALSE(uncached.views[0].reference_cached);
     EXPECT_EQ(uncached.views[0].methods[0].metrics.mse, first.views[0].methods[0].metrics.mse);
+}
+
+// `ltm eval --scene-points auto`: every scene sets the model's M from its own size, starting from
+// the model as loaded each time — so a detailed scene between two small ones does not leave its M
+// (or its tree) behind — and without auto the model keeps its own M.
+TEST(EvalModel, AutoScenePointsFollowEachScene) {
+    Scene small = cornell_box(), detailed = cornell_box();
+    TriangleMesh strip;   // k_auto_detail_triangles slivers: detail the auto rule counts
+    for (size_t t = 0; t < k_auto_detail_triangles; ++t) {
+        const float x = 0.1f + 0.3f * float(t) / float(k_auto_detail_triangles);
+        const uint32_t i = uint32_t(strip.positions.size());
+        strip.positions.insert(strip.positions.end(), {{x, 0.2f, 0.2f}, {x + 1e-4f, 0.2f, 0.2f}, {x, 0.2f, 0.2001f}});
+        strip.indices.insert(strip.indices.end(), {i, i + 1, i + 2});
+    }
+    strip.material = detailed.meshes.front().material;
+    detailed.meshes.push_back(strip);
+    ASSERT_GE(detailed.n_triangles(), k_auto_detail_triangles);
+
+    EvalModel m{"ours", "", load_model(test::source_path("models/ltm-cpu.safetensors")).model};
+    const int64_t own = m.model->cfg.scene_points;
+    EXPECT_EQ(m.fit_scene_points(detailed), own) << "without auto the model keeps its M";
+    m.enable_auto_scene_points(false);
+    EXPECT_EQ(m.fit_scene_points(small), auto_scene_points(small));
+    EXPECT_EQ(m.fit_scene_points(detailed), auto_scene_points(detailed));
+    EXPECT_GT(auto_scene_points(detailed), auto_scene_points(small));
+    EXPECT_EQ(m.model->cfg.physics.prior_theta, 0.5f) << "above the model's M, through the tree";
+    EXPECT_EQ(m.fit_scene_points(small), auto_scene_points(small)) << "the detailed scene's M is not kept";
+    // A θ given on the command line stays: auto never replaces it.
+    m.model->cfg.physics.prior_theta = 0.f;
+    m.enable_auto_scene_points(true);
+    m.fit_scene_points(detailed);
+    EXPECT_EQ(m.model->cfg.physics.prior_theta, 0.f);
 }
 
 }  // namespace

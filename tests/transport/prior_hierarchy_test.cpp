@@ -139,6 +139,27 @@ TEST(PriorHierarchy, SameAtAnyThreadCount) {
     EXPECT_EQ(one, many);
 }
 
+// The tree solve records each node's row for the later bounces while the rows fit its budget and
+// walks the tree again beyond it (k_prior_row_budget): no rows kept, some, or all give the same
+// exitance to the bit, and so the same gather.
+TEST(PriorHierarchy, RowBudgetBoundsMemoryNotTheAnswer) {
+    const Points pts = two_rooms(12);
+    const float area = 9.f / 144.f;
+    std::vector<Vec3f> qp, qn;
+    receivers(pts, qp, qn);
+    const TransportPrior dense = solve(pts, area, 0.f, true, true, 4);
+    auto tree = [&](size_t budget) {
+        return solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, area, 5, dense.visibility, PriorBalance::per_channel, true,
+                                     0.5f, budget);
+    };
+    const TransportPrior all = tree(k_prior_row_budget), none = tree(0), some = tree(size_t(64) << 10);
+    EXPECT_EQ(flat(none.exitance), flat(all.exitance));
+    EXPECT_EQ(flat(some.exitance), flat(all.exitance));
+    EXPECT_EQ(test::gather(none, qp, qn), test::gather(all, qp, qn));
+    // And it is still the prior: within the θ 0.5 bound of the dense rows.
+    EXPECT_LT(relative_rms(flat(none.exitance), flat(dense.exitance)), 0.025);
+}
+
 TEST(PriorHierarchy, BadInputIsAnError) {
     const Points pts = two_rooms(4);
     EXPECT_THROW(solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 0.1f, 5, {}, PriorBalance::per_channel, false, -0.1f), Error);

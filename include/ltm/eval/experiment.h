@@ -31,6 +31,19 @@ struct EvalOptions {
 struct EvalModel {
     std::string name, path;
     LtmModel model{nullptr};
+    /// `--scene-points auto`: each scene sets the model's M (and θ) from its own size
+    /// (set_auto_scene_points) before it is encoded, starting again from `fixed` every time, so a
+    /// scene's choice does not depend on the scenes before it. Call enable_auto_scene_points.
+    bool auto_scene_points = false, theta_given = false;
+    struct Fixed {
+        int64_t scene_points = 0;
+        float prior_theta = 0.f;
+    } fixed;
+    /// Turns `--scene-points auto` on, remembering the model's M and θ as they are now.
+    void enable_auto_scene_points(bool theta_was_given);
+    /// Sets the model's M (and θ) for `scene` when auto_scene_points, else leaves it; returns the M
+    /// it will sample.
+    int64_t fit_scene_points(const Scene &scene);
 };
 
 struct EvalScene {
@@ -46,6 +59,7 @@ struct MethodResult {
     double seconds = 0;   ///< the method's own time for this view
     int spp = 0;          ///< PT methods: samples per pixel
     FieldMetrics field;   ///< level, chroma, correlation against the reference at the hit pixels
+    int64_t scene_points = 0;   ///< model rows: the scene points it sampled (0: not a model)
 };
 
 struct ViewResult {

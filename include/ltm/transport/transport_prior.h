@@ -75,17 +75,24 @@ struct TransportPrior {
     std::shared_ptr<const PriorTree::Sums> tree_sums;
 };
 
+/// The tree solve's first bounce records each node's row (~9 KB a node in a house at m = 65 536) and
+/// the later bounces apply the recorded rows; rows past this many bytes are walked through the tree
+/// again at every bounce instead. Either way the result is the same (tested): the budget bounds
+/// memory, not the answer.
+inline constexpr size_t k_prior_row_budget = size_t(768) << 20;
+
 /// Solves D bounces among m nodes. position/normal/albedo/radiance: m entries each; node_area > 0.
 /// theta = 0: the dense rows, O(m²) time and floats of memory for the transport at most (m = 4 096:
 /// 64 MiB; with occlusion each node stores only the clusters it sees). theta in (0, 1]: through the
 /// cluster tree (transport/prior_hierarchy.h) with that opening bound, O(m log m) per bounce, O(m)
 /// memory; the gather then uses the tree too. Deterministic at any thread count. Throws ltm::Error
 /// on mismatched sizes, no nodes, node_area ≤ 0, bounces < 0 or theta outside [0, 1].
+/// row_budget: the tree solve's recorded rows (k_prior_row_budget).
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
                                      float node_area, int bounces, ClusterVisibility visibility = {},
                                      PriorBalance balance = PriorBalance::per_channel, bool patches = false,
-                                     float theta = 0.f);
+                                     float theta = 0.f, size_t row_budget = k_prior_row_budget);
 
 /// Every scene point a node: scene_points [M, 12] (scene_point_columns()), node_area = A / M. With
 /// `emission_scale` (S_c = Φ_c/A, exact from the meshes) the points' radiance is rescaled per
