@@ -9,6 +9,7 @@
 #include <chrono>
 
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/startup.h"
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
@@ -108,7 +109,7 @@ static void BM_DecodeKernel(benchmark::State &state) {
     const auto t0 = std::chrono::steady_clock::now();
     FusedDecoder fused(*model->decoder);
     fused.prepare(model->features(lat));
-    state.counters["build_ms"] = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    state.counters["build_ms"] = 1e3 * seconds_since(t0);
     for (auto _ : state) {
         if (state.range(0) == 1) {
             benchmark::DoNotOptimize(fused.forward(q, lat.anchors, idx).data_ptr());
@@ -134,22 +135,28 @@ static void BM_DecodeKnn(benchmark::State &state) {
 }
 BENCHMARK(BM_DecodeKnn)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
-// One training step of a preset: encode + decode 8192 queries + loss + backward + AdamW.
+// One training step of a preset: encode + decode N queries + loss + backward + AdamW. As the trainer
+// does, the scene's frame (with prior inputs: the prior at every scene point) and the queries' output
+// scale are computed once, outside the step. Args: preset (k_step_presets), queries per step.
+const char *const k_step_presets[] = {"cpu", "paper", "tiny-pi", "small-pi", "cpu-pi"};
 static void BM_TrainStep(benchmark::State &state) {
     torch::manual_seed(0);
-    const ModelConfig cfg = preset(state.range(0) ? "paper" : "cpu");
+    const ModelConfig cfg = preset(k_step_presets[state.range(0)]);
+    state.SetLabel(cfg.name);
     LtmModel model(cfg);
     torch::optim::AdamW opt(model->parameters(), torch::optim::AdamWOptions(1e-4));
     const auto sp = points(cfg.scene_points, SampleStream::scene_points, true);
-    const auto qp = points(8192, SampleStream::query_points, false);
-    const auto target = torch::rand({8192, 3});
+    const auto qp = points(state.range(1), SampleStream::query_points, false);
+    const auto target = torch::rand({state.range(1), 3});
     const SceneGeometry g = model->scene_geometry(sp);
+    const SceneNormalization frame = model->scene_frame(sp, g);
+    const torch::Tensor scale = output_scale(qp, frame);
     double fwd = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         opt.zero_grad();
-        const auto loss = relative_l2_log_loss(model->decode(qp, model->encode(sp, g)), target);
-        fwd += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const auto loss = relative_l2_log_loss(model->decode(qp, model->encode(sp, g, {}, &frame), scale), target);
+        fwd += seconds_since(t0);
         loss.backward();
         opt.step();
     }
@@ -158,5 +165,5 @@ static void BM_TrainStep(benchmark::State &state) {
     const struct mallinfo2 mi = mallinfo2();
     state.counters["heap_MB"] = mb(mi.arena + mi.hblkhd);
 }
-BENCHMARK(BM_TrainStep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_TrainStep)->Args({0, 8192})->Args({1, 8192})->Args({2, 4096})->Args({3, 4096})->Args({4, 4096})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/startup.h"
 #include "ltm/core/tonemap.h"
 #include "ltm/eval/eval_setup.h"
@@ -148,7 +149,7 @@ int main(int argc, char **argv) {
                                           nullptr, settings[s].balance, settings[s].patches, settings[s].theta);
                 std::vector<Vec3f> e(gb.n_hits());
                 gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
-                const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                const double secs = seconds_since(t0);
                 const ImageMetrics m = compare_images(scatter_to_image(gb, e), ref);
                 const FieldMetrics f = compare_fields(e, ref_hits);
                 Sums &x = sums[s];

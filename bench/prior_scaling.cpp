@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/startup.h"
 #include "ltm/eval/eval_setup.h"
 #include "ltm/procgen/indoor_generator.h"
@@ -30,7 +31,7 @@ using namespace ltm;
 
 namespace {
 double since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return seconds_since(t0);
 }
 }  // namespace
 

@@ -13,7 +13,8 @@
 #
 # Never train on these rooms (../shared/scenes/README.md). Env: LTM, MODEL, ABLATION (space-separated),
 # SIZE (128), REF_SPP (1024), REF_CACHE (refs-real), EXTRA (more scenes, e.g. builtin:NAME; default
-# builtin:cornell-box).
+# builtin:cornell-box), EVAL_ARGS (more `ltm eval` options, e.g. "--scene-points auto" or
+# "--baseline-spp 256").
 set -euo pipefail
 DIR=${1:?usage: scripts/real-rooms.sh DIR [OUT]}
 OUT=${2:-real-rooms}
@@ -41,7 +42,7 @@ for a in ${ABLATION:-}; do ablations+=(--ablation "$a"); done
 mkdir -p "$OUT"
 echo "real-rooms.sh: ${#scenes[@]} scenes, ${SIZE}², reference $REF_SPP spp -> $OUT" >&2
 "$LTM" eval --model "$MODEL" "${ablations[@]}" --scenes "${scenes[@]}" --width "$SIZE" --height "$SIZE" \
-  --ref-spp "$REF_SPP" --ref-cache "$REF_CACHE" -o "$OUT"
+  --ref-spp "$REF_SPP" --ref-cache "$REF_CACHE" ${EVAL_ARGS:-} -o "$OUT"
 # One row per room and method, from report.json.
 python3 - "$OUT/report.json" > "$OUT/rooms.md" <<'EOF'
 import json, sys

@@ -119,7 +119,7 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         write_png(a.view + ".png", shown);
     }
     log_info("bake-gi: ", gb.n_hits(), " vertices (", a.method, ") -> ", a.output, " in ",
-             format_duration(std::chrono::duration<double>(Clock::now() - t0).count()));
+             format_duration(seconds_since(t0)));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/json_util.h"
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/points/ply_io.h"
 #include "ltm/points/surface_sampler.h"
 #include "ltm/render/enclosure.h"
@@ -52,7 +53,7 @@ void run(const SampleArgs &a, const CommonOptions &common) {
     if (a.exclude_enclosed) filter = enclosed_filter(accel);
     const PointSet query_pts = to_query_points(
         sample_surface(scene, a.query_points, common.seed, SampleStream::query_points, filter));
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double secs = seconds_since(t0);
 
     OrderedJson meta;
     meta["format"] = "ltm-samples";

@@ -8,6 +8,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/rng.h"
 #include "ltm/data/dataset.h"
 #include "ltm/infer/traced_bounce.h"
@@ -108,7 +109,7 @@ DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &d
         if (r.emission_scale) es = torch::tensor({r.emission_scale->x, r.emission_scale->y, r.emission_scale->z});
         const SceneLatents lat = model->encode(sp, model->scene_geometry(sp), es);
         const auto pred = model->predict_radiance(rows_tensor(hemi.query, 9), rows_tensor(hemi.direction, 3), lat).contiguous();
-        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        seconds += seconds_since(t0);
         std::vector<float> qp;
         for (int64_t q : pts)
             for (int c = 0; c < 9; ++c) qp.push_back(r.query_points.at(size_t(q), size_t(c)));

@@ -8,6 +8,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/reference_cache.h"
 #include "ltm/infer/neural_renderer.h"
@@ -106,13 +107,13 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                                                                     : model_points.front();
         const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
         const auto prior = power_balance_irradiance(sampled.points, PathTracerConfig{}.max_depth, &sampled.emission_scale);
-        const double prior_seconds = std::chrono::duration<double>(Clock::now() - t_prior).count();
+        const double prior_seconds = seconds_since(t_prior);
         // The visibility-free radiosity prior (transport/transport_prior.h) with every scene point a
         // node and D = 8, as configs/model/cpu-tp.json: its level per point, no network.
         const auto t_transport = Clock::now();
         const TransportPrior transport = solve_transport_prior(
             sampled.points, float(es.scene.total_area() / double(sampled.points.size())), 8, &sampled.emission_scale);
-        const double transport_seconds = std::chrono::duration<double>(Clock::now() - t_transport).count();
+        const double transport_seconds = seconds_since(t_transport);
         // With occlusion from the points alone (transport/point_visibility.h) as configs/model/cpu-tp.json
         // since v0.9: 1 024 clusters, segments tested against the points as discs of one spacing,
         // no power balance, D = 5 as the references (bench/prior_ablation.cpp compares the settings);
@@ -125,7 +126,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         const TransportPrior transport_vis = solve_transport_prior(
             sampled.points, spacing * spacing, PathTracerConfig{}.max_depth, &sampled.emission_scale, vis, nullptr, PriorBalance::none,
             true);
-        const double transport_vis_seconds = std::chrono::duration<double>(Clock::now() - t_vis).count();
+        const double transport_vis_seconds = seconds_since(t_vis);
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
         for (int v = 0; v < opt.views; ++v) {
@@ -147,7 +148,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 const auto t0 = Clock::now();
                 PredictTimings pt;
                 const Image pred = scatter_to_image(gb, predict_gbuffer(models[mi].model, encoded[mi], gb, &pt));
-                const double decode_s = std::chrono::duration<double>(Clock::now() - t0).count();
+                const double decode_s = seconds_since(t0);
                 const EncodedScene &e = encoded[mi];
                 // A single frame pays the encoder too: the model's time is encode + kNN + decode.
                 const double secs = e.sample_seconds + e.geometry_seconds + e.encode_seconds + decode_s;
@@ -158,7 +159,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 const auto t_prior_row = Clock::now();
                 const Image prior_only = scatter_to_image(gb, predict_gbuffer_prior(encoded[mi], gb));
                 add("model-prior:" + models[mi].name, prior_only,
-                    e.sample_seconds + e.geometry_seconds + std::chrono::duration<double>(Clock::now() - t_prior_row).count(), 0,
+                    e.sample_seconds + e.geometry_seconds + seconds_since(t_prior_row), 0,
                     e.n_scene_points);
                 if (opt.gi_stride > 1) {
                     GiUpsampleOptions gi;
@@ -166,7 +167,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                     const auto t1 = Clock::now();
                     const Image up = scatter_to_image(gb, predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
                     const double up_s = e.sample_seconds + e.geometry_seconds + e.encode_seconds +
-                                        std::chrono::duration<double>(Clock::now() - t1).count();
+                                        seconds_since(t1);
                     add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride), up, up_s, 0, e.n_scene_points);
                 }
             }

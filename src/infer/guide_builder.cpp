@@ -5,6 +5,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/farthest_points.h"
 #include "ltm/transport/point_visibility.h"
@@ -38,7 +39,7 @@ GuideBuild build_guide_cache(LtmModel &model, const EmbreeAccel &accel, const Gu
     std::vector<Vec3f> radiance(l, l + pred.size(0));
     const float radius = opt.radius_spacings * point_spacing(pos);
     GuideBuild out{GuideCache(R, std::move(pos), std::move(nrm), std::move(radiance), radius), 0.0};
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.seconds = seconds_since(t0);
     log_info("guide cache: ", c, " points × ", R, "² bins predicted in ", out.seconds, " s (lookup radius ", radius, ")");
     return out;
 }

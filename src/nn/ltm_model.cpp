@@ -6,6 +6,7 @@
 
 #include "ltm/core/error.h"
 #include "ltm/core/math.h"
+#include "ltm/core/progress.h"
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
 #include "ltm/points/point_set.h"
@@ -255,7 +256,6 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
                                                int64_t chunk, PredictTimings *timings) {
     torch::NoGradGuard no_grad;
     using clock = std::chrono::steady_clock;
-    auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
     PredictTimings local;
     auto t = clock::now();
     if (fold_prior && decoder->at_prior()) {
@@ -263,7 +263,7 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         std::vector<torch::Tensor> parts;
         for (int64_t s = 0; s < query_points.size(0); s += chunk)
             parts.push_back(prior_irradiance(query_points.slice(0, s, std::min(query_points.size(0), s + chunk)), latents.norm));
-        local.decode += since(t);
+        local.decode += seconds_since(t);
         if (timings) timings->decode += local.decode;
         return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
     }
@@ -283,15 +283,15 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         }
         const auto q = query_inputs(qp, latents.norm, scale);
         const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
-        local.decode += since(t);
+        local.decode += seconds_since(t);
         t = clock::now();
         const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
-        local.knn += since(t);
+        local.knn += seconds_since(t);
         t = clock::now();
         parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), scale));
     }
     auto out = parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
-    local.decode += since(t);
+    local.decode += seconds_since(t);
     if (timings) timings->knn += local.knn, timings->decode += local.decode;
     return out;
 }

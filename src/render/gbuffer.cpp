@@ -63,7 +63,7 @@ IrradianceImages estimate_images(const GBuffer &gb, const char *label,
     IrradianceImages out;
     out.direct = scatter_to_image(gb, direct);
     out.indirect = scatter_to_image(gb, indirect);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.seconds = seconds_since(t0);
     return out;
 }
 

@@ -72,7 +72,7 @@ RenderedImage render_pathtraced(const PathTracer &pt, const Camera &cam, int spp
     });
     progress.finish();
     out.hit_fraction = float(hits.load()) / float(int64_t(cam.width) * cam.height);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.seconds = seconds_since(t0);
     return out;
 }
 

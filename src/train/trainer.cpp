@@ -11,6 +11,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/rng.h"
 #include "ltm/eval/field_metrics.h"
 #include "ltm/nn/checkpoint.h"
@@ -606,7 +607,7 @@ void Trainer::run(bool resume, int64_t stop_at) {
         ++steps_since;
         if (!s.skipped) loss_since += s.loss;
         if (m_step % m_cfg.log_every == 0 || m_step == end) {
-            const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_last).count();
+            const double dt = seconds_since(t_last);
             const double mean_loss = loss_since / double(steps_since);
             OrderedJson j = {{"step", s.step}, {"loss", mean_loss}, {"lr", s.lr}, {"grad_norm", s.grad_norm},
                              {"skipped", s.skipped}, {"steps_per_s", double(steps_since) / dt},

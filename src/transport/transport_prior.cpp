@@ -11,6 +11,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/core/parallel.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/sampling.h"
 #include "ltm/transport/patch_form_factor.h"
 #include "ltm/points/point_grid.h"
@@ -408,7 +409,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         // The points' spacing (8th-neighbour distances) only when a length is given in spacings.
         const bool in_spacings = !(vis.voxel > 0.f) || vis.splat_spacings > 0.f || vis.disc_spacings > 0.f;
         const float spacing = in_spacings ? point_spacing(op) : 0.f;
-        t_spacing = std::chrono::duration<double>(Clock::now() - t0).count();
+        t_spacing = seconds_since(t0);
         const float h = vis.voxel > 0.f ? vis.voxel : vis.voxel_spacings * spacing;
         // With discs, the cluster grid's edge from the points alone (point_visibility.h): n_solid ≈
         // κ·M voxels of edge h at h = s (κ = 0.71, 0.68–0.75 on 6 validation houses), so
@@ -427,7 +428,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches, theta);
     log_debug("transport prior: ", m, " nodes; spacing ", t_spacing, " s, clusters and visibility ",
               std::chrono::duration<double>(t1 - t0).count() - t_spacing, " s, solve ",
-              std::chrono::duration<double>(Clock::now() - t1).count(), " s");
+              seconds_since(t1), " s");
     return out;
 }
 
