@@ -49,6 +49,9 @@ void declare(CLI::App &sub, EvalArgs &a) {
                    "Also evaluate each model with E+ decoded on every N-th pixel and interpolated (rows model:NAME/giN)")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
+    sub.add_flag("--ref-noise", a.opt.reference_noise,
+                 "Also estimate each reference's own noise, the MSE floor no method can go below (one more reference with "
+                 "independent samples, cached like it): reference_noise_mse in report.json, a line under the table");
     sub.add_flag("--no-grids", a.no_grids, "Skip the PNG grids");
     sub.add_flag("--physics", a.run_physics,
                  "Also run the physics checks (emission x0.25/x4, unit x0.1/x10, blue room shells, furnace box): "

@@ -9,6 +9,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
+#include "ltm/core/tonemap.h"
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/reference_cache.h"
 #include "ltm/infer/neural_renderer.h"
@@ -65,6 +66,20 @@ Image reference_image(const EvalScene &es, const Camera &cam, const GBuffer &gb,
                                                &vr->reference_cached);
     vr->reference_seconds = ref.seconds;
     return std::move(ref.indirect);
+}
+
+// ViewResult::reference_noise_mse: a twin of the reference (its spp, its own streams; cached like
+// it), their tone-mapped MSE at the reference's scale, halved.
+double reference_noise_mse(const EvalScene &es, const EmbreeAccel &accel, const Camera &cam, const GBuffer &gb,
+                           const Image &ref, const EvalOptions &opt) {
+    const PathTracerConfig cfg = eval_tracer_config(opt.seed, EvalRole::reference_twin);
+    const PathTracer pt(accel, cfg);
+    const Image twin = reference_irradiance(opt.ref_cache_dir, es.scene, cam, gb, pt, cfg, opt.ref_spp,
+                                            {{"scene", es.name}, {"view", cam.name}, {"width", cam.width},
+                                             {"height", cam.height}, {"spp", opt.ref_spp}, {"role", "reference twin"}})
+                           .indirect;
+    const float s = tonemap_scale(ref);
+    return 0.5 * mse(tonemap(twin, s), tonemap(ref, s));
 }
 
 }  // namespace
@@ -138,6 +153,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             vr.scene = es.name, vr.view = cam.name, vr.pixels = int64_t(gb.n_hits());
             log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
             const Image ref = reference_image(es, cam, gb, pt_ref, tracer_config(EvalRole::reference), opt, &vr);
+            if (opt.reference_noise) vr.reference_noise_mse = reference_noise_mse(es, accel, cam, gb, ref, opt);
             const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
             auto add = [&](const std::string &method, const Image &img, double secs, int spp, int64_t points = 0) {
                 vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits), points});
@@ -251,6 +267,13 @@ OrderedJson EvalReport::to_json() const {
                            {"chroma_error", ms(chroma)}, {"luminance_correlation", ms(corr)}, {"beats_flat_oracle", beats_flat}};
     }
     j["summary"] = summary;
+    std::vector<double> noise;
+    for (const auto &v : views)
+        if (std::isfinite(v.reference_noise_mse)) noise.push_back(v.reference_noise_mse);
+    if (!noise.empty()) {
+        const Stats s = stats(noise);
+        j["reference_noise_mse"] = {{"views", noise.size()}, {"mean", s.mean}, {"std", s.std}};
+    }
     OrderedJson vs = OrderedJson::array();
     for (const auto &v : views) {
         OrderedJson mj = OrderedJson::array();
@@ -260,7 +283,9 @@ OrderedJson EvalReport::to_json() const {
             mj.push_back(std::move(row));
         }
         vs.push_back({{"scene", v.scene}, {"view", v.view}, {"pixels", v.pixels},
-                      {"reference_seconds", v.reference_seconds}, {"reference_cached", v.reference_cached}, {"methods", mj}});
+                      {"reference_seconds", v.reference_seconds}, {"reference_cached", v.reference_cached},
+                      {"reference_noise_mse", std::isfinite(v.reference_noise_mse) ? OrderedJson(v.reference_noise_mse) : OrderedJson(nullptr)},
+                      {"methods", mj}});
     }
     j["views"] = vs;
     return j;
@@ -290,6 +315,12 @@ std::string EvalReport::table_markdown() const {
       << "level ratio: geometric mean over views of mean Y(method)/mean Y(reference), in band: views within "
       << "[0.8, 1.25]. chroma err: RMS of centred log channel means against the reference. lum. corr: Pearson "
       << "correlation of per-pixel luminance (eval/field_metrics.h).\n";
+    if (j.contains("reference_noise_mse")) {
+        const auto &n = j["reference_noise_mse"];
+        std::snprintf(buf, sizeof buf, "%.4f ± %.4f", n["mean"].get<double>(), n["std"].get<double>());
+        o << "\nReference noise: " << buf << " — the MSE the exact E⁺ would have against these references (two more renders "
+          << "at half their spp; no method can go below it), over " << n["views"].get<size_t>() << " views.\n";
+    }
     return o.str();
 }
 

@@ -1,5 +1,6 @@
 // experiment_test.cpp: `ltm eval` (run_evaluation) reads its references from the cache
 // (eval/reference_cache.h) and really uses them.
+#include <cmath>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -48,6 +49,35 @@ TEST(ReferenceCache, EvaluationReusesTheCachedReference) {
     const EvalReport uncached = run_evaluation(scenes, no_models, opt);
     EXPECT_FALSE(uncached.views[0].reference_cached);
     EXPECT_EQ(uncached.views[0].methods[0].metrics.mse, first.views[0].methods[0].metrics.mse);
+}
+
+// The reference's noise floor (--ref-noise) is the variance of the reference itself: PT at the
+// reference's own spp has that variance too, so its MSE against the reference is about twice the
+// floor; the floor falls as the reference's spp grows; it is cached with the reference.
+TEST(ReferenceNoise, IsTheReferencesOwnVariance) {
+    test::TempDir dir;
+    std::vector<EvalScene> scenes{{"cornell", cornell_box()}};
+    std::vector<EvalModel> no_models;
+    EvalOptions opt;
+    opt.width = 96, opt.height = 96;
+    opt.ref_spp = 64, opt.baseline_spp = 64;
+    opt.reference_noise = true;
+    opt.ref_cache_dir = dir.path("cache");
+    const EvalReport r = run_evaluation(scenes, no_models, opt);
+    ASSERT_EQ(r.views.size(), 1u);
+    ASSERT_EQ(r.views[0].methods[0].method, "pt64");
+    const double floor64 = r.views[0].reference_noise_mse, pt64 = r.views[0].methods[0].metrics.mse;
+    EXPECT_GT(floor64, 0.0);
+    EXPECT_NEAR(pt64 / floor64, 2.0, 0.4) << pt64 << " " << floor64;
+    opt.ref_spp = 256;
+    EXPECT_LT(run_evaluation(scenes, no_models, opt).views[0].reference_noise_mse, 0.5 * floor64);
+    opt.ref_spp = 64;
+    const EvalReport again = run_evaluation(scenes, no_models, opt);
+    EXPECT_TRUE(again.views[0].reference_cached);
+    EXPECT_EQ(again.views[0].reference_noise_mse, floor64) << "the twin comes from the cache too";
+    EXPECT_NE(again.table_markdown().find("Reference noise: "), std::string::npos);
+    opt.reference_noise = false;
+    EXPECT_TRUE(std::isnan(run_evaluation(scenes, no_models, opt).views[0].reference_noise_mse));
 }
 
 // `ltm eval --scene-points auto`: every scene sets the model's M from its own size, starting from

@@ -17,7 +17,14 @@ namespace ltm {
 
 /// Who renders in an evaluation: each role has its own random streams, so no baseline shares
 /// samples with the reference (the values enter the seeds and the reference cache's keys).
-enum class EvalRole : uint64_t { reference = 1, baseline = 2, equal_time = 3, neural_direct = 4 };
+enum class EvalRole : uint64_t {
+    reference = 1,
+    baseline = 2,
+    equal_time = 3,
+    neural_direct = 4,
+    reference_twin = 5,   ///< the reference's noise estimate (EvalOptions::reference_noise): one more
+                          ///< reference at its spp, independent of it
+};
 /// The path tracer configuration of `role` for evaluation seed `seed`.
 PathTracerConfig eval_tracer_config(uint64_t seed, EvalRole role);
 

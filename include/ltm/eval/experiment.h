@@ -4,6 +4,7 @@
 // paper's 64 spp and PT at the model's own wall time.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct EvalOptions {
     std::string out_dir;             ///< grids go here (empty: no images)
     std::string ref_cache_dir;       ///< reuse/keep references here (eval/reference_cache.h; empty: off)
     int gi_stride = 1;               ///< > 1: also each model with E⁺ on a pixel lattice ("model:NAME/gi<S>")
+    /// Also estimate each reference's own noise (ViewResult::reference_noise_mse): costs one more
+    /// reference's time per view (a twin of it), cached like the reference.
+    bool reference_noise = false;
 };
 
 struct EvalModel {
@@ -67,6 +71,13 @@ struct ViewResult {
     int64_t pixels = 0;             ///< pixels with a surface
     double reference_seconds = 0;   ///< when it was rendered (also if it came from the cache)
     bool reference_cached = false;
+    /// The reference's own noise: the expected MSE (the table's metric) of the exact E⁺ against it,
+    /// the floor under every method's MSE that no estimator can go below. From a twin b of the
+    /// reference a (same spp, independent samples), tone-mapped at a's scale: E (a − b)² = 2σ² per
+    /// pixel, so the floor is MSE(a, b)/2 — whatever the sampler's convergence rate (its strata make
+    /// σ² fall faster than 1/spp, so half-spp renders would not do). Clamping at 1 trims the brightest
+    /// outliers of both alike. NaN unless EvalOptions::reference_noise.
+    double reference_noise_mse = NAN;
     std::vector<MethodResult> methods;
 };
 
