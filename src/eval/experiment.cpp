@@ -318,8 +318,8 @@ std::string EvalReport::table_markdown() const {
     if (j.contains("reference_noise_mse")) {
         const auto &n = j["reference_noise_mse"];
         std::snprintf(buf, sizeof buf, "%.4f ± %.4f", n["mean"].get<double>(), n["std"].get<double>());
-        o << "\nReference noise: " << buf << " — the MSE the exact E⁺ would have against these references (two more renders "
-          << "at half their spp; no method can go below it), over " << n["views"].get<size_t>() << " views.\n";
+        o << "\nReference noise: " << buf << " — the MSE the exact E⁺ would have against these references (from an independent "
+          << "twin of each; no method can go below it), over " << n["views"].get<size_t>() << " views.\n";
     }
     return o.str();
 }
