@@ -6,7 +6,9 @@
 # evaluates each with `ltm eval` on the validation houses' camera views (seeds disjoint from
 # training and test; references cached in refs-val/), and prints one line per candidate, best
 # (lowest view MSE) last. Env: LTM, SEEDS (100000:100032), SIZE (64), REF_SPP (256), GEN (a generator
-# config for the seeds, e.g. configs/gen/real-mix.json; default the built-in), REF_CACHE (refs-val).
+# config for the seeds, e.g. configs/gen/real-mix.json; default the built-in), REF_CACHE (refs-val),
+# REF_NOISE=1 (also the references' own noise, the floor under every line: `ltm eval --ref-noise`; it
+# does not change the ranking, only what a ratio between two lines means).
 set -euo pipefail
 RUN=$1
 BASELINE=${2:-}
@@ -33,7 +35,8 @@ first=${candidates[0]#*=}
 ablations=()
 for c in "${candidates[@]:1}"; do ablations+=(--ablation "$c"); done
 "$LTM" eval -q --model "$first" "${ablations[@]}" --scenes "$SEEDS" ${GEN:+--gen-config "$GEN"} --width "$SIZE" --height "$SIZE" --ref-spp "$REF_SPP" \
-    --baseline-spp 4 --ref-cache "$REF_CACHE" --no-grids -o "$out/eval"
+    --baseline-spp 4 --ref-cache "$REF_CACHE" --no-grids ${REF_NOISE:+--ref-noise} -o "$out/eval"
 # One line per model row of the table (model:ours is the first candidate), sorted by MSE, best last.
 first_name=${candidates[0]%%=*}
 grep '^| model:' "$out/eval/table.md" | sed "s/model:ours/model:$first_name/" | sort -t'|' -k4,4gr
+grep '^Reference noise' "$out/eval/table.md" || true
