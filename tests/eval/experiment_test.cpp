@@ -15,38 +15,47 @@
 namespace ltm {
 namespace {
 
+// Path tracing alone (no model) on the Cornell box: the reference, PT and the floors, w × h pixels,
+// references cached in `cache`.
+struct CornellEval {
+    std::vector<EvalScene> scenes{{"cornell", cornell_box()}};
+    std::vector<EvalModel> no_models;
+    EvalOptions opt;
+    CornellEval(int w, int h, int ref_spp, int baseline_spp, const std::string &cache) {
+        opt.width = w, opt.height = h;
+        opt.ref_spp = ref_spp, opt.baseline_spp = baseline_spp;
+        opt.ref_cache_dir = cache;
+    }
+    EvalReport run() { return run_evaluation(scenes, no_models, opt); }
+};
+
 // Two evaluations with the same cache: the second reads the reference from disk. To prove it is
 // used (not just written), the cached image is replaced by a scaled copy, which must change the
 // PT baseline's error against it, while a run without the cache is unaffected.
 TEST(ReferenceCache, EvaluationReusesTheCachedReference) {
     test::TempDir dir;
-    std::vector<EvalScene> scenes{{"cornell", cornell_box()}};
-    std::vector<EvalModel> no_models;
-    EvalOptions opt;
-    opt.width = 24, opt.height = 20;
-    opt.ref_spp = 16, opt.baseline_spp = 4;
-    opt.ref_cache_dir = dir.path("cache");
-    const EvalReport first = run_evaluation(scenes, no_models, opt);
+    CornellEval e(24, 20, 16, 4, dir.path("cache"));
+    const EvalReport first = e.run();
     ASSERT_EQ(first.views.size(), 1u);
     EXPECT_FALSE(first.views[0].reference_cached);
-    const EvalReport second = run_evaluation(scenes, no_models, opt);
+    const EvalReport second = e.run();
     EXPECT_TRUE(second.views[0].reference_cached);
     EXPECT_EQ(second.views[0].reference_seconds, first.views[0].reference_seconds);
     EXPECT_EQ(second.views[0].methods[0].metrics.mse, first.views[0].methods[0].metrics.mse);
 
     std::string exr;
-    for (const auto &e : std::filesystem::directory_iterator(opt.ref_cache_dir))
-        if (e.path().extension() == ".exr") exr = e.path().string();
+    for (const auto &entry : std::filesystem::directory_iterator(e.opt.ref_cache_dir))
+        if (entry.path().extension() == ".exr") exr = entry.path().string();
     ASSERT_FALSE(exr.empty());
     const std::string key = std::filesystem::path(exr).stem().string();
-    auto cached = load_cached_reference(opt.ref_cache_dir, key, opt.width, opt.height);
+    auto cached = load_cached_reference(e.opt.ref_cache_dir, key, e.opt.width, e.opt.height);
     ASSERT_TRUE(cached);
     for (auto &p : cached->indirect.pixels) p = p * 3.f;
-    store_cached_reference(opt.ref_cache_dir, key, *cached, {});
-    const EvalReport tampered = run_evaluation(scenes, no_models, opt);
+    store_cached_reference(e.opt.ref_cache_dir, key, *cached, {});
+    const EvalReport tampered = e.run();
     EXPECT_NE(tampered.views[0].methods[0].metrics.mse, first.views[0].methods[0].metrics.mse);
-    opt.ref_cache_dir.clear();
-    const EvalReport uncached = run_evaluation(scenes, no_models, opt);
+    e.opt.ref_cache_dir.clear();
+    const EvalReport uncached = e.run();
     EXPECT_FALSE(uncached.views[0].reference_cached);
     EXPECT_EQ(uncached.views[0].methods[0].metrics.mse, first.views[0].methods[0].metrics.mse);
 }
@@ -56,28 +65,23 @@ TEST(ReferenceCache, EvaluationReusesTheCachedReference) {
 // floor; the floor falls as the reference's spp grows; it is cached with the reference.
 TEST(ReferenceNoise, IsTheReferencesOwnVariance) {
     test::TempDir dir;
-    std::vector<EvalScene> scenes{{"cornell", cornell_box()}};
-    std::vector<EvalModel> no_models;
-    EvalOptions opt;
-    opt.width = 96, opt.height = 96;
-    opt.ref_spp = 64, opt.baseline_spp = 64;
-    opt.reference_noise = true;
-    opt.ref_cache_dir = dir.path("cache");
-    const EvalReport r = run_evaluation(scenes, no_models, opt);
+    CornellEval e(96, 96, 64, 64, dir.path("cache"));
+    e.opt.reference_noise = true;
+    const EvalReport r = e.run();
     ASSERT_EQ(r.views.size(), 1u);
     ASSERT_EQ(r.views[0].methods[0].method, "pt64");
     const double floor64 = r.views[0].reference_noise_mse, pt64 = r.views[0].methods[0].metrics.mse;
     EXPECT_GT(floor64, 0.0);
     EXPECT_NEAR(pt64 / floor64, 2.0, 0.4) << pt64 << " " << floor64;
-    opt.ref_spp = 256;
-    EXPECT_LT(run_evaluation(scenes, no_models, opt).views[0].reference_noise_mse, 0.5 * floor64);
-    opt.ref_spp = 64;
-    const EvalReport again = run_evaluation(scenes, no_models, opt);
+    e.opt.ref_spp = 256;
+    EXPECT_LT(e.run().views[0].reference_noise_mse, 0.5 * floor64);
+    e.opt.ref_spp = 64;
+    const EvalReport again = e.run();
     EXPECT_TRUE(again.views[0].reference_cached);
     EXPECT_EQ(again.views[0].reference_noise_mse, floor64) << "the twin comes from the cache too";
     EXPECT_NE(again.table_markdown().find("Reference noise: "), std::string::npos);
-    opt.reference_noise = false;
-    EXPECT_TRUE(std::isnan(run_evaluation(scenes, no_models, opt).views[0].reference_noise_mse));
+    e.opt.reference_noise = false;
+    EXPECT_TRUE(std::isnan(e.run().views[0].reference_noise_mse));
 }
 
 // `ltm eval --scene-points auto`: every scene sets the model's M from its own size, starting from
