@@ -57,13 +57,20 @@ std::vector<std::string> method_order(const EvalReport &r) {
     return out;
 }
 
-// The reference E⁺ of one view (cached when opt.ref_cache_dir is set).
+// A reference render of one view at opt.ref_spp with `pt`'s streams (cached when opt.ref_cache_dir
+// is set); `role` names any render other than the reference itself in the cache's provenance.
+CachedReference view_reference(const EvalScene &es, const Camera &cam, const GBuffer &gb, const PathTracer &pt,
+                               const PathTracerConfig &cfg, const EvalOptions &opt, const std::string &role = "",
+                               bool *from_cache = nullptr) {
+    OrderedJson provenance{{"scene", es.name}, {"view", cam.name}, {"width", cam.width}, {"height", cam.height}, {"spp", opt.ref_spp}};
+    if (!role.empty()) provenance["role"] = role;
+    return reference_irradiance(opt.ref_cache_dir, es.scene, cam, gb, pt, cfg, opt.ref_spp, provenance, from_cache);
+}
+
+// The reference E⁺ of one view.
 Image reference_image(const EvalScene &es, const Camera &cam, const GBuffer &gb, const PathTracer &pt,
                       const PathTracerConfig &cfg, const EvalOptions &opt, ViewResult *vr) {
-    CachedReference ref = reference_irradiance(opt.ref_cache_dir, es.scene, cam, gb, pt, cfg, opt.ref_spp,
-                                               {{"scene", es.name}, {"view", cam.name}, {"width", cam.width},
-                                                {"height", cam.height}, {"spp", opt.ref_spp}},
-                                               &vr->reference_cached);
+    CachedReference ref = view_reference(es, cam, gb, pt, cfg, opt, "", &vr->reference_cached);
     vr->reference_seconds = ref.seconds;
     return std::move(ref.indirect);
 }
@@ -73,11 +80,7 @@ Image reference_image(const EvalScene &es, const Camera &cam, const GBuffer &gb,
 double reference_noise_mse(const EvalScene &es, const EmbreeAccel &accel, const Camera &cam, const GBuffer &gb,
                            const Image &ref, const EvalOptions &opt) {
     const PathTracerConfig cfg = eval_tracer_config(opt.seed, EvalRole::reference_twin);
-    const PathTracer pt(accel, cfg);
-    const Image twin = reference_irradiance(opt.ref_cache_dir, es.scene, cam, gb, pt, cfg, opt.ref_spp,
-                                            {{"scene", es.name}, {"view", cam.name}, {"width", cam.width},
-                                             {"height", cam.height}, {"spp", opt.ref_spp}, {"role", "reference twin"}})
-                           .indirect;
+    const Image twin = view_reference(es, cam, gb, PathTracer(accel, cfg), cfg, opt, "reference twin").indirect;
     const float s = tonemap_scale(ref);
     return 0.5 * mse(tonemap(twin, s), tonemap(ref, s));
 }
@@ -112,14 +115,13 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         auto tracer_config = [&](EvalRole role) { return eval_tracer_config(opt.seed, role); };
         const PathTracer pt_ref(accel, tracer_config(EvalRole::reference)), pt_64(accel, tracer_config(EvalRole::baseline)),
             pt_eq(accel, tracer_config(EvalRole::equal_time));
-        const auto t_prior = Clock::now();
-        std::vector<int64_t> model_points;
-        for (auto &m : models) model_points.push_back(m.fit_scene_points(es.scene));
+        for (auto &m : models) m.fit_scene_points(es.scene);
         // The closed-form rows below solve densely: at the first model's M, or with auto at the M it
         // was loaded with (auto's M goes through the tree; dense rows at 32 768 would hold ~4 GB).
         const int64_t n_points = models.empty()                      ? 8192
                                  : models.front().auto_scene_points ? models.front().fixed.scene_points
-                                                                    : model_points.front();
+                                                                    : models.front().model->cfg.scene_points;
+        const auto t_prior = Clock::now();
         const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
         const auto prior = power_balance_irradiance(sampled.points, PathTracerConfig{}.max_depth, &sampled.emission_scale);
         const double prior_seconds = seconds_since(t_prior);
