@@ -7,6 +7,11 @@
 // (or scene files and builtin:NAME, comma-separated, in place of the seed range)
 // reuses `ltm eval --scenes 100000:100032 --width 64 --height 64 --ref-spp 256 --ref-cache refs-val`.
 // PRIOR_ABLATION_M=M samples M scene points (default 8 192), PRIOR_ABLATION_POINT_SEED=S with seed S. PRIOR_ABLATION_REF_DEPTH=D traces the reference with max_depth D (E⁺ from bounces 1 … D).
+// PRIOR_ABLATION_POINT_SETS=K (default 1) solves each setting on K independent point sets (seeds
+// S … S+K−1) and scores their average: the prior's view error then splits into the references' own
+// noise (PRIOR_ABLATION_REF_NOISE=1: the twin `ltm eval --ref-noise` caches), the point set's variance
+// and what stays in the average over infinitely many sets (its bias), the part that neither more
+// point sets nor more points of the same kind remove (see the table's columns).
 // With PRIOR_ABLATION_PNG=DIR set, each view is also written as DIR/seed-N.png: reference | each
 // setting, tone mapped by the reference (eval/metrics.h) and enlarged 3×.
 #include <chrono>
@@ -52,6 +57,7 @@ struct Setting {
 };
 struct Sums {
     double mse = 0, ssim = 0, seconds = 0;
+    double mse_single = 0;   ///< mean over the K point sets of each one's own MSE
     int beats_flat = 0, in_band = 0, views = 0;
 };
 }  // namespace
@@ -105,6 +111,16 @@ int main(int argc, char **argv) {
                             f[7] > 0.f ? int(f[7]) : 1, f[8] > 0.f, int(f[9]), f[10]});
     }
     std::vector<Sums> sums(settings.size());
+    const int point_sets = std::getenv("PRIOR_ABLATION_POINT_SETS") ? std::atoi(std::getenv("PRIOR_ABLATION_POINT_SETS")) : 1;
+    if (point_sets < 1) {
+        std::fprintf(stderr, "prior_ablation: PRIOR_ABLATION_POINT_SETS must be >= 1\n");
+        return 1;
+    }
+    // PRIOR_ABLATION_POINT_SEED=S: the (first) scene points' sampling seed (default 0, as `ltm eval`).
+    const uint64_t point_seed = std::getenv("PRIOR_ABLATION_POINT_SEED") ? std::stoull(std::getenv("PRIOR_ABLATION_POINT_SEED")) : 0;
+    const bool ref_noise = std::getenv("PRIOR_ABLATION_REF_NOISE") != nullptr;
+    double floor_sum = 0;   // Σ over views of the references' own noise (ref_noise)
+    int floor_views = 0;
     try {
         for (const auto &[name, path] : scene_list) {
             const Scene scene = path.empty() ? generate_indoor(GenConfig{}, std::stoull(name.substr(5))).scene : load_scene(path);
@@ -125,14 +141,21 @@ int main(int argc, char **argv) {
             const Color3d mc = mean_color(ref_hits);
             const Image flat = scatter_to_image(gb, std::vector<Vec3f>(gb.n_hits(), Vec3f{float(mc[0]), float(mc[1]), float(mc[2])}));
             const double flat_mse = compare_images(flat, ref).mse;
+            if (ref_noise) {   // as eval's reference_noise_mse: MSE(ref, twin)/2 at the reference's tone scale
+                const PathTracerConfig twin_cfg = eval_tracer_config(0, EvalRole::reference_twin);
+                const Image twin = reference_irradiance(cache, scene, cam, gb, PathTracer(accel, twin_cfg), twin_cfg, ref_spp,
+                                                        {{"scene", name}, {"role", "reference twin"}})
+                                       .indirect;
+                const float s = tonemap_scale(ref);
+                floor_sum += 0.5 * mse(tonemap(twin, s), tonemap(ref, s)), ++floor_views;
+            }
             // PRIOR_ABLATION_BURIED=x: scene points buried within x nominal spacings count as enclosed.
             const char *buried = std::getenv("PRIOR_ABLATION_BURIED");
             // PRIOR_ABLATION_M=M: M scene points instead of the shipped 8 192.
             const int64_t n_points = std::getenv("PRIOR_ABLATION_M") ? std::atoll(std::getenv("PRIOR_ABLATION_M")) : 8192;
-            // PRIOR_ABLATION_POINT_SEED=S: the scene points' sampling seed (default 0, as `ltm eval`).
-            const uint64_t point_seed = std::getenv("PRIOR_ABLATION_POINT_SEED") ? std::stoull(std::getenv("PRIOR_ABLATION_POINT_SEED")) : 0;
-            const ScenePoints sp = sample_scene_points(accel, n_points, point_seed, true, buried ? std::stof(buried) : k_buried_spacings);
-            const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
+            std::vector<ScenePoints> point_set;
+            for (int k = 0; k < point_sets; ++k)
+                point_set.push_back(sample_scene_points(accel, n_points, point_seed + uint64_t(k), true, buried ? std::stof(buried) : k_buried_spacings));
             std::string per_setting;   // this view's MSE per setting, for the log
             std::vector<Image> strip{ref};   // PRIOR_ABLATION_PNG=dir: reference | each setting, per view
             for (size_t s = 0; s < settings.size(); ++s) {
@@ -144,13 +167,22 @@ int main(int argc, char **argv) {
                 vis.disc_spacings = settings[s].disc_spacings;
                 vis.blend = settings[s].blend;
                 vis.open_rays = settings[s].open_rays;
-                const TransportPrior prior =
-                    solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, settings[s].bounces, &sp.emission_scale, vis,
-                                          nullptr, settings[s].balance, settings[s].patches, settings[s].theta);
-                std::vector<Vec3f> e(gb.n_hits());
-                gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
-                const double secs = seconds_since(t0);
+                // Ê⁺ of each point set, and their mean.
+                std::vector<Vec3f> e(gb.n_hits(), Vec3f{0.f, 0.f, 0.f});
+                double single = 0;
+                for (const ScenePoints &sp : point_set) {
+                    const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
+                    const TransportPrior prior =
+                        solve_transport_prior(sp.points, settings[s].area_factor * spacing * spacing, settings[s].bounces, &sp.emission_scale,
+                                              vis, nullptr, settings[s].balance, settings[s].patches, settings[s].theta);
+                    std::vector<Vec3f> ek(gb.n_hits());
+                    gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &ek[0].x);
+                    if (point_sets > 1) single += compare_images(scatter_to_image(gb, ek), ref).mse;
+                    for (size_t h = 0; h < e.size(); ++h) e[h] += ek[h] * (1.f / float(point_sets));
+                }
+                const double secs = seconds_since(t0) / point_sets;
                 const ImageMetrics m = compare_images(scatter_to_image(gb, e), ref);
+                sums[s].mse_single += point_sets > 1 ? single / point_sets : m.mse;
                 const FieldMetrics f = compare_fields(e, ref_hits);
                 Sums &x = sums[s];
                 x.mse += m.mse, x.ssim += m.ssim, x.seconds += secs, ++x.views;
@@ -166,13 +198,26 @@ int main(int argc, char **argv) {
             }
             std::fprintf(stderr, "%s%s: flat %.4f, MSE%s\n", name.c_str(), cached ? " (cached reference)" : "", flat_mse, per_setting.c_str());
         }
-        std::printf("| occlusion H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none : bounces : blended clusters : patches : open rays : tree opening bound) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |\n|---|---|---|---|---|---|---|\n");
+        if (point_sets > 1)
+            std::printf("%d point sets per view (seeds %llu … %llu): MSE is their average's. Split of one set's MSE: its variance "
+                        "V = (one set's − the average's) · K/(K−1), the infinite average's B = average's − V/K%s.\n\n",
+                        point_sets, (unsigned long long)point_seed, (unsigned long long)(point_seed + point_sets - 1),
+                        ref_noise ? ", of which the references' noise F" : "");
+        std::printf("| occlusion H:C[:S[:F[:D[:B[:K[:L[:P[:O[:T]]]]]]]]] (voxel edge in point spacings : clusters : tangent splat in spacings : node-area factor : disc radius in spacings : balance 0 per channel, 1 grey, 2 none : bounces : blended clusters : patches : open rays : tree opening bound) | views | MSE | SSIM | beats flat | level in band | solve + gather (s) |%s\n|---|---|---|---|---|---|---|%s\n",
+                    point_sets > 1 ? " one set's MSE | V | B |" : "", point_sets > 1 ? "---|---|---|" : "");
         for (size_t s = 0; s < settings.size(); ++s) {
             const Sums &x = sums[s];
             const double n = std::max(1, x.views);
-            std::printf("| %s | %d | %.4f | %.3f | %d | %d | %.2f |\n", settings[s].name.c_str(), x.views, x.mse / n, x.ssim / n, x.beats_flat,
+            std::printf("| %s | %d | %.4f | %.3f | %d | %d | %.2f |", settings[s].name.c_str(), x.views, x.mse / n, x.ssim / n, x.beats_flat,
                         x.in_band, x.seconds / n);
+            if (point_sets > 1) {
+                const double one = x.mse_single / n, avg = x.mse / n;
+                const double v = (one - avg) * point_sets / (point_sets - 1), b = avg - v / point_sets;
+                std::printf(" %.4f | %.4f | %.4f |", one, v, b);
+            }
+            std::printf("\n");
         }
+        if (ref_noise) std::printf("\nThe references' own noise F (mean over views): %.4f\n", floor_sum / std::max(1, floor_views));
     } catch (const std::exception &e) {
         std::fprintf(stderr, "prior_ablation: error: %s\n", e.what());
         return 1;

@@ -97,12 +97,22 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
         m_val_paths.assign(records.end() - std::ptrdiff_t(n_val), records.end());
     }
     if (m_val_paths.size() > size_t(cfg.val_scenes)) m_val_paths.resize(size_t(cfg.val_scenes));
-    // The model must match the data: same M, and a record of the expected format.
+    // The model must match the data: the same M, or records whose houses can be regenerated (their
+    // points are then sampled afresh at the model's M, as the extra point sets are), and a record
+    // of the expected format.
     const SceneRecord first = read_record(m_train_paths.front());
-    if (int(first.scene_points.size()) != model_cfg.scene_points)
-        LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (",
-                  model_cfg.name, ") expects ", model_cfg.scene_points, " (dataset preset '",
-                  first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")), "')");
+    if (int(first.scene_points.size()) != model_cfg.scene_points) {
+        try {
+            regenerate_scene(first);
+        } catch (const Error &e) {
+            LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (", model_cfg.name,
+                      ") expects ", model_cfg.scene_points, " (dataset preset '",
+                      first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")),
+                      "'), and its house cannot be regenerated to sample them afresh: ", e.what());
+        }
+        log_info(m_train_paths.front(), ": records hold ", first.scene_points.size(), " scene points; the model's ", model_cfg.scene_points,
+                 " are sampled afresh from each regenerated house");
+    }
     if (cfg.head == "directional") {
         if (cfg.loss == "log-relative-l2") LTM_THROW("head \"directional\": loss \"log-relative-l2\" is for E⁺ only (use relative-l2 or level-l2)");
         if (!model_cfg.directional)
@@ -150,10 +160,16 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
     if (!slot) {
         auto c = std::make_unique<CachedScene>();
         PointSet points;
+        // Sampled afresh from the regenerated house as the record's were (its preset's rules), at
+        // the model's M: extra point sets, and every set of a record baked at another M.
+        auto fresh_points = [&](const SceneRecord &r) {
+            const DataPreset p = DataPreset::from_json(r.metadata.at("preset"), path + " (preset)");
+            const Scene house = regenerate_scene(r);
+            const EmbreeAccel accel(house);
+            return sample_scene_points(accel, m_model_cfg.scene_points, hash_keys({r.seed, 0x9015e75ull, uint64_t(set)}), p.exclude_enclosed);
+        };
         if (set == 0) {
             auto r = std::make_shared<SceneRecord>(read_record(path));
-            if (int(r->scene_points.size()) != m_model_cfg.scene_points)
-                LTM_THROW(path, ": ", r->scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points);
             c->query_points = point_tensor(r->query_points).to(m_device);
             c->target = rows_tensor(r->e_indirect, 3).to(m_device);
             if (m_cfg.head == "directional") check_directional_record(*r, *m_model_cfg.directional);
@@ -161,20 +177,21 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
                 const Vec3f s = *r->emission_scale;
                 c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
             }
-            points = r->scene_points;
+            if (int(r->scene_points.size()) == m_model_cfg.scene_points) {
+                points = r->scene_points;
+            } else {
+                ScenePoints sampled = fresh_points(*r);
+                const Vec3f s = sampled.emission_scale;
+                if (c->emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
+                points = std::move(sampled.points);
+            }
             c->record = std::move(r);
         } else {
-            // Another point set of the same house: the record's queries and targets, scene points
-            // sampled afresh from the regenerated scene as the record's were (its preset's rules).
+            // Another point set of the same house: the record's queries and targets, fresh points.
             const CachedScene &own = scene(index, 0);
             c->record = own.record;
             c->query_points = own.query_points, c->target = own.target;
-            const SceneRecord &r = *c->record;
-            const DataPreset p = DataPreset::from_json(r.metadata.at("preset"), path + " (preset)");
-            const Scene house = regenerate_scene(r);
-            const EmbreeAccel accel(house);
-            ScenePoints sampled = sample_scene_points(accel, m_model_cfg.scene_points, hash_keys({r.seed, 0x9015e75ull, uint64_t(set)}),
-                                                      p.exclude_enclosed);
+            ScenePoints sampled = fresh_points(*c->record);
             const Vec3f s = sampled.emission_scale;
             if (own.emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
             points = std::move(sampled.points);
