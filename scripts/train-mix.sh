@@ -28,7 +28,7 @@ SELECT=${SELECT:-1}
 train=("$LTM" train --model "$MODEL" --data "$DATA" --out "$RUN"
        --config configs/train/physics.json --steps "$STEPS" --set lr="$LR" --set warmup_steps=50
        --set scenes_per_step=1 --set batch_queries=4096 --set val_fraction=0.03 --set loss=level-l2 --set level_cap=4
-       --set point_sets="$POINT_SETS" --set val_scenes=8 --set val_every=200 --set ckpt_every=50
+       --set point_sets="$POINT_SETS" --set resample_points=true --set val_scenes=8 --set val_every=200 --set ckpt_every=50
        --set keep_val_checkpoints=true)
 if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume; else "${train[@]}" --init "$INIT"; fi
 if [[ "$SELECT" == 1 ]]; then

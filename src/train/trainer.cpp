@@ -58,6 +58,8 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .field("level_cap", &C::level_cap, "level-l2: a point's weight min(level_cap, P/L) (note 2)", at_least(1))
             .omit_default()
             .field("point_sets", &C::point_sets, "scene point sets per training house, one drawn per step (note 6)", between(1, 64))
+            .omit_default()
+            .field("resample_points", &C::resample_points, "records with another scene point count than the model's have every point set sampled afresh at the model's M (note 6); else they are refused")
             .omit_default();
     return f;
 }
@@ -102,6 +104,11 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
     // of the expected format.
     const SceneRecord first = read_record(m_train_paths.front());
     if (int(first.scene_points.size()) != model_cfg.scene_points) {
+        if (!cfg.resample_points)
+            LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (", model_cfg.name,
+                      ") expects ", model_cfg.scene_points, " (dataset preset '",
+                      first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")),
+                      "'; resample_points=true samples the model's afresh from each regenerated house)");
         try {
             regenerate_scene(first);
         } catch (const Error &e) {
@@ -179,7 +186,9 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             }
             if (int(r->scene_points.size()) == m_model_cfg.scene_points) {
                 points = r->scene_points;
-            } else {
+            } else {   // resample_points (checked in the constructor on the first record)
+                if (!m_cfg.resample_points)
+                    LTM_THROW(path, ": ", r->scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points);
                 ScenePoints sampled = fresh_points(*r);
                 const Vec3f s = sampled.emission_scale;
                 if (c->emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);

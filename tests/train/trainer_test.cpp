@@ -128,8 +128,9 @@ TEST(Trainer, ExtraPointSetsChangeTheDrawsThatUseThem) {
     EXPECT_THROW(TrainConfig::from_json(j, "t"), Error);
 }
 
-// Records baked at 1 024 points train a model at 2 048: each house is regenerated and its points
-// sampled afresh at the model's M (the record's queries and targets kept), validation included.
+// With resample_points, records baked at 1 024 points train a model at 2 048: each house is
+// regenerated and its points sampled afresh at the model's M (the record's queries and targets
+// kept), validation included; without it the mismatch is refused.
 // With lr = 0 two runs agree bit for bit, and they differ from the 1 024-point model's losses.
 TEST(Trainer, RecordsAtAnotherPointCountAreResampledAtTheModels) {
     test::TempDir dir;
@@ -139,6 +140,8 @@ TEST(Trainer, RecordsAtAnotherPointCountAreResampledAtTheModels) {
     Trainer own(mc, t, {dataset_dir()}, dir.path("own"));
     own.run(false);
     mc.scene_points = 2048;
+    EXPECT_THROW(Trainer(mc, t, {dataset_dir()}, dir.path("refused")), Error) << "without resample_points";
+    t.resample_points = true;
     Trainer a(mc, t, {dataset_dir()}, dir.path("a")), b(mc, t, {dataset_dir()}, dir.path("b"));
     a.run(false);
     b.run(false);

@@ -48,6 +48,10 @@ struct TrainConfig {
     /// uses the record's own set. Costs one scene generation and transport solve per extra set,
     /// once (cached).
     int point_sets = 1;
+    /// Records whose scene point count differs from the model's: every point set of such a house
+    /// (validation's too) is sampled afresh at the model's M from the regenerated house, with the
+    /// record's queries and targets. false: refused (a mismatch is usually the wrong preset).
+    bool resample_points = false;
     float val_fraction = 0.1f;    ///< highest-seed records held out for validation (seeds disjoint)
     int val_scenes = 8;           ///< at most this many held-out scenes are evaluated
     int val_queries = 8192;       ///< queries per validation scene, spread evenly over its records' rows
