@@ -91,9 +91,10 @@ void run(const EvalArgs &a, const CommonOptions &common) {
         models.push_back({spec.substr(0, eq), spec.substr(eq + 1), load_model(spec.substr(eq + 1)).model});
     }
     for (auto &m : models) {
+        const int scene_points = scene_points_for(m.model, a.scene_points);   // the user's, else auto if the model asks
         if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-        if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);
-        if (a.scene_points == k_scene_points_auto) m.enable_auto_scene_points(a.prior_theta >= 0);
+        if (scene_points > 0) set_scene_points(m.model, scene_points);
+        if (scene_points == k_scene_points_auto) m.enable_auto_scene_points(a.prior_theta >= 0);
     }
     // Scenes: seed ranges are generated in memory, files are loaded.
     const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);
@@ -150,7 +151,7 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     j["scenes"] = a.scenes;
     j["threads"] = common.threads;
     // The models' M (--scene-points or their own; with auto, each view's model rows carry theirs).
-    if (a.scene_points == k_scene_points_auto) j["scene_points"] = "auto";
+    if (models.front().auto_scene_points) j["scene_points"] = "auto";
     else j["scene_points"] = models.front().model->cfg.scene_points;
     write_file_atomic(a.output + "/report.json", j.dump(2) + "\n");
     const std::string table = r.table_markdown();

@@ -26,8 +26,8 @@ void declare(CLI::App &sub, ExportArgs &a) {
     sub.add_flag("--half", a.half, "Store F16 (half the size; inference converts back to F32)");
     sub.add_option("--note", a.note, "Free text stored in the metadata ('note'), e.g. provenance");
     sub.add_option("--set", a.overrides,
-                   "Override a setting of the closed-form prior in the exported config, e.g. --set physics.prior_open_rays=16 "
-                   "(only physics.prior_* keys: they carry no parameters)");
+                   "Override an inference setting in the exported config, e.g. --set physics.prior_open_rays=16 or --set "
+                   "auto_scene_points=true (only physics.prior_* keys and auto_scene_points: they carry no parameters)");
 }
 
 void run(const ExportArgs &a, const CommonOptions &) {
@@ -44,14 +44,16 @@ void run(const ExportArgs &a, const CommonOptions &) {
         meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
     }
     if (!a.overrides.empty()) {
-        // The prior's settings are computed at inference from the scene points, so they change
-        // what the weights predict but not their shapes; any other key would.
+        // The prior's settings are computed at inference from the scene points, and the point
+        // count's rule picks how many, so they change what the weights predict but not their
+        // shapes; any other key would.
         // Weights without a physics section (v0.3) read as PhysicsConfig::legacy(); a physics object
         // added by --set would be read over the new defaults and switch on what they never had.
         if (!model->cfg.physics.any()) LTM_THROW("--set: ", a.input, " has no physics settings (v0.3 weights): nothing to override");
         Json j = model->cfg.to_json();
         for (const auto &o : a.overrides) {
-            if (o.rfind("physics.prior_", 0) != 0) LTM_THROW("--set ", o, ": only physics.prior_* keys can change in export");
+            if (o.rfind("physics.prior_", 0) != 0 && o.rfind("auto_scene_points=", 0) != 0)
+                LTM_THROW("--set ", o, ": only physics.prior_* keys and auto_scene_points can change in export");
             apply_json_override(j, o);
         }
         model->cfg = ModelConfig::from_json(j, "--set");

@@ -23,15 +23,16 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     auto t = Clock::now();
     LoadedModel m = load_model(a.model);
     const double load_model_s = seconds_since(t);
+    const int scene_points = scene_points_for(m.model, a.scene_points);   // the user's, else auto if the model asks
     if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-    if (a.scene_points > 0) set_scene_points(m.model, a.scene_points);   // its bounds fail before the scene loads
+    if (scene_points > 0) set_scene_points(m.model, scene_points);   // its bounds fail before the scene loads
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
     if (glossy == GlossyShading::head && !m.model->directional)
         LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");
     t = Clock::now();
     const Scene scene = load_scene(a.scene);
     const double load_scene_s = seconds_since(t);
-    if (a.scene_points == k_scene_points_auto) set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
+    if (scene_points == k_scene_points_auto) set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
     t = Clock::now();
     for (const auto &w : scene_range_warnings(scene, m.model->cfg.physics.length_scale)) log_warn(a.scene, ": ", w);
     const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);

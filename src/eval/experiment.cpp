@@ -177,7 +177,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 const auto t_prior_row = Clock::now();
                 const Image prior_only = scatter_to_image(gb, predict_gbuffer_prior(encoded[mi], gb));
                 add("model-prior:" + models[mi].name, prior_only,
-                    e.sample_seconds + e.geometry_seconds + seconds_since(t_prior_row), 0,
+                    e.sample_seconds + e.geometry_seconds + e.latents.norm.solve_seconds + seconds_since(t_prior_row), 0,
                     e.n_scene_points);
                 if (opt.gi_stride > 1) {
                     GiUpsampleOptions gi;

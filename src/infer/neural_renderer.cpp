@@ -325,6 +325,11 @@ void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given
     log_info("--scene-points auto: ", m, " scene points for ", scene.n_triangles(), " triangles", tree ? ", the prior through its tree (θ 0.5)" : "");
 }
 
+int scene_points_for(const LtmModel &model, int given) {
+    if (given != 0) return given;
+    return model->cfg.auto_scene_points ? int(k_scene_points_auto) : 0;
+}
+
 void set_prior_theta(LtmModel &model, double theta) {
     if (!(theta >= 0.0 && theta <= 1.0)) LTM_THROW("--prior-theta ", theta, ": must be in [0, 1] (0: the dense rows)");
     if (model->cfg.physics.prior_field != "transport")

@@ -145,7 +145,11 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
         // No emission among the scene points: S = 0, so E⁺ = 0 (no light, no indirect light).
         n.output = n.emission;
         if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(ordered_mean(sp.slice(1, 6, 9)), physics.prior_bounces);
-        if (physics.prior_field == "transport") n.transport = solve_transport(sp, geometry, n, physics);
+        if (physics.prior_field == "transport") {
+            const auto t = std::chrono::steady_clock::now();
+            n.transport = solve_transport(sp, geometry, n, physics);
+            n.solve_seconds = seconds_since(t);
+        }
     }
     return n;
 }

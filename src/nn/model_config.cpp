@@ -84,6 +84,8 @@ const ConfigFields<ModelConfig> &ModelConfig::fields() {
                                          .field("name", &C::name, "preset name (informational)")
                                          .field("scene_points", &C::scene_points, "M scene points the model is trained with (must match the dataset)", at_least(16))
                                          .field("prior_inputs", &C::prior_inputs, "scene points and queries also carry the transport prior's Ê⁺ there, log1p(Ê⁺ / S·Σρ̄^k): the network sees what it corrects")
+                                         .omit_default()
+                                         .field("auto_scene_points", &C::auto_scene_points, "at inference the point count follows each scene as --scene-points auto does, unless --scene-points is given (training uses scene_points)")
                                          .omit_default();
     return f;
 }

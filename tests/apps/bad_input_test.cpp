@@ -188,8 +188,9 @@ TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
                           test::source_path("models/ltm-cpu.safetensors"), "--width", "16", "--height", "16", "-o",
                           dir.path("r")});
     EXPECT_EQ(r.code, 1) << r.err;
-    // The out-of-range warning may precede it (warnings print even with --quiet); then exactly one
-    // error line, and nothing of a backtrace.
+    // The out-of-range warning may precede it (warnings print even with --quiet), and the line
+    // naming the shipped model's auto point count; then exactly one error line, and nothing of a
+    // backtrace.
     std::istringstream lines(r.err);
     int errors = 0;
     for (std::string line; std::getline(lines, line);) {
@@ -200,8 +201,8 @@ TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
             // side facing nothing, so no candidate passes.
             EXPECT_TRUE(line.find("too large for the") != std::string::npos || line.find("passes the filter") != std::string::npos)
                 << line;
-        } else {
-            EXPECT_EQ(line.rfind("[warning] ", 0), 0u) << "unexpected line: " << line;
+        } else {   // warnings, and what the model's auto point count says it picked
+            EXPECT_TRUE(line.rfind("[warning] ", 0) == 0 || line.rfind("[info] --scene-points auto: ", 0) == 0) << "unexpected line: " << line;
         }
     }
     EXPECT_EQ(errors, 1) << r.err;
@@ -302,6 +303,34 @@ TEST(BadInput, EvalScenePointsAutoPerScene) {
     const Result w = run({"eval", "--model", model, "--scenes", "builtin:cornell-box", "--scene-points", "most", "-o", dir.path("w")});
     EXPECT_EQ(w.code, 2) << w.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("w"))) << "no partial output";
+}
+
+// A model whose config asks for auto_scene_points (`ltm export --set auto_scene_points=true`)
+// renders and evaluates with the scene's auto count when --scene-points is not given, and with the
+// user's count when it is; export refuses keys that carry parameters.
+TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
+    test::TempDir dir;
+    const std::string model = dir.path("auto.safetensors");
+    const Result e = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--half", "--set", "auto_scene_points=true", "-o",
+                          model, "-q"});
+    ASSERT_EQ(e.code, 0) << e.err;
+    const Result a = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--width", "16", "--height", "16", "-o",
+                          dir.path("auto")});
+    ASSERT_EQ(a.code, 0) << a.err;
+    EXPECT_NE(a.err.find("--scene-points auto: 16384 scene points for 32 triangles"), std::string::npos) << a.err;
+    EXPECT_NE(read_file(dir.path("auto.timings.json")).find("\"scene_points\": 16384"), std::string::npos);
+    const Result g = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "2048", "--width",
+                          "16", "--height", "16", "-o", dir.path("given")});
+    ASSERT_EQ(g.code, 0) << g.err;
+    EXPECT_NE(read_file(dir.path("given.timings.json")).find("\"scene_points\": 2048"), std::string::npos);
+    const Result v = run({"eval", "--model", model, "--scenes", "builtin:cornell-box", "--width", "16", "--height", "16", "--ref-spp", "4",
+                          "--baseline-spp", "1", "--no-grids", "-o", dir.path("eval")});
+    ASSERT_EQ(v.code, 0) << v.err;
+    EXPECT_NE(read_file(dir.path("eval/report.json")).find("\"scene_points\": \"auto\""), std::string::npos);
+    const Result w = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--set", "scene_points=4096", "-o", dir.path("w.safetensors")});
+    EXPECT_EQ(w.code, 1) << w.err;
+    EXPECT_NE(w.err.find("only physics.prior_* keys and auto_scene_points"), std::string::npos) << w.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("w.safetensors"))) << "no partial output";
 }
 
 // The cluster tree renders the shipped model's prior past the dense bound: 40 000 scene points of

@@ -45,6 +45,10 @@ void set_prior_theta(LtmModel &model, double theta);
 /// set_prior_theta. (The CLI holds "auto" as k_scene_points_auto.)
 inline constexpr int64_t k_scene_points_auto = -1;
 void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given);
+/// The --scene-points a command runs with: `given` when the user gave one (> 0 or auto), else
+/// k_scene_points_auto for a model whose config asks for it (ModelConfig::auto_scene_points), else
+/// 0 (the model's own M).
+int scene_points_for(const LtmModel &model, int given);
 
 struct EncodedScene {
     SceneLatents latents;

@@ -41,6 +41,9 @@ struct SceneNormalization {
     /// [M, 3] the prior at every scene point (output_scale of the points as queries, raw units):
     /// the encoder's prior inputs (ModelConfig::prior_inputs; LtmModelImpl::scene_frame sets it).
     torch::Tensor point_prior;
+    /// Seconds the transport prior's solve took (part of the encode): the model's own prior, the
+    /// network silenced, costs sampling, this and its gather (`ltm eval`'s model-prior row).
+    double solve_seconds = 0;
 };
 
 /// What the encoder leaves for the decoder.

@@ -166,6 +166,12 @@ struct ModelConfig {
     /// the inputs unchanged. false: the paper's inputs (p, n, albedo[, emission]) only. Needs
     /// physics.prior_field "transport".
     bool prior_inputs = false;
+    /// At inference (render, bake-gi, eval, the guide) the point count follows each scene as
+    /// `--scene-points auto` does (render/scene_points.h: 16 384, or 32 768 from 100 k triangles,
+    /// the prior through its tree) unless --scene-points is given; scene_points stays the count the
+    /// model trains with. The shipped prior-only model sets it (v0.13): its quality grows with M
+    /// (docs/results.md, session 24) and it has no network trained at one M.
+    bool auto_scene_points = false;
 
     /// The top-level keys (name, scene_points); the sections have their own fields().
     static const ConfigFields<ModelConfig> &fields();
