@@ -148,7 +148,8 @@ CLI::Option *add_scene_points_option(CLI::App *sub, int &dst, const std::string 
     return sub
         ->add_option("--scene-points", dst,
                      "Scene points the model samples (" + what +
-                         "; default: the model's own, 8192 for the shipped one); more follow finer detail at more time. auto: "
+                         "; default: the model's own count, or auto where its config asks, as the shipped one's does); more follow finer detail at "
+                         "more time. auto: "
                          "16384, or 32768 for scenes of 100k triangles or more, then through the prior's tree (θ 0.5)")
         ->transform(CLI::Transformer(std::map<std::string, int>{{"auto", -1}}))
         ->check(CLI::Range(-1, std::numeric_limits<int>::max()));

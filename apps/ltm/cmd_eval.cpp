@@ -150,9 +150,17 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     j["ablations"] = a.ablations;
     j["scenes"] = a.scenes;
     j["threads"] = common.threads;
-    // The models' M (--scene-points or their own; with auto, each view's model rows carry theirs).
-    if (models.front().auto_scene_points) j["scene_points"] = "auto";
-    else j["scene_points"] = models.front().model->cfg.scene_points;
+    // The models' M (--scene-points or their own; with auto, each view's model rows carry theirs):
+    // one value when every model agrees, else each model's by name.
+    auto points_of = [](const EvalModel &m) { return m.auto_scene_points ? OrderedJson("auto") : OrderedJson(m.model->cfg.scene_points); };
+    j["scene_points"] = points_of(models.front());
+    for (const auto &m : models)
+        if (points_of(m) != j["scene_points"]) {
+            OrderedJson each = OrderedJson::object();
+            for (const auto &n : models) each[n.name] = points_of(n);
+            j["scene_points"] = each;
+            break;
+        }
     write_file_atomic(a.output + "/report.json", j.dump(2) + "\n");
     const std::string table = r.table_markdown();
     write_file_atomic(a.output + "/table.md", table);

@@ -49,11 +49,13 @@ void run(const ExportArgs &a, const CommonOptions &) {
         // shapes; any other key would.
         // Weights without a physics section (v0.3) read as PhysicsConfig::legacy(); a physics object
         // added by --set would be read over the new defaults and switch on what they never had.
-        if (!model->cfg.physics.any()) LTM_THROW("--set: ", a.input, " has no physics settings (v0.3 weights): nothing to override");
         Json j = model->cfg.to_json();
         for (const auto &o : a.overrides) {
-            if (o.rfind("physics.prior_", 0) != 0 && o.rfind("auto_scene_points=", 0) != 0)
+            const bool prior_key = o.rfind("physics.prior_", 0) == 0;
+            if (!prior_key && o.rfind("auto_scene_points=", 0) != 0)
                 LTM_THROW("--set ", o, ": only physics.prior_* keys and auto_scene_points can change in export");
+            if (prior_key && !model->cfg.physics.any())
+                LTM_THROW("--set: ", a.input, " has no physics settings (v0.3 weights): nothing to override");
             apply_json_override(j, o);
         }
         model->cfg = ModelConfig::from_json(j, "--set");

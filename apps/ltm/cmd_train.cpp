@@ -122,6 +122,12 @@ void run(const TrainArgs &a, const CommonOptions &common) {
     const std::string model = !a.model.empty() || !a.resume ? a.model : a.out + "/model.json";
     if (model.empty() && a.init.empty()) LTM_THROW("--model is required (or --init, whose weights carry their config)");
     ModelConfig mc = model.empty() ? load_weights(a.init)->cfg : ModelConfig::from_file(model);
+    if (model.empty() && mc.auto_scene_points) {
+        // The shipped prior-only model follows each scene's point count at inference; a network
+        // trained here learns at scene_points, so its weights keep that count.
+        mc.auto_scene_points = false;
+        log_info(a.init, ": auto_scene_points off for training: the trained weights run at its ", mc.scene_points, " scene points");
+    }
     if (tc.head == "directional" && !mc.directional) {
         mc.directional = DirectionalConfig{};
         log_info("model '", mc.name, "': adding a directional head with the default \"directional\" section");

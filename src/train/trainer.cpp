@@ -111,7 +111,7 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
                       "'; resample_points=true samples the model's afresh from each regenerated house)");
         try {
             regenerate_scene(first);
-        } catch (const Error &e) {
+        } catch (const std::exception &e) {
             LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (", model_cfg.name,
                       ") expects ", model_cfg.scene_points, " (dataset preset '",
                       first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")),
@@ -188,7 +188,8 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
                 points = r->scene_points;
             } else {   // resample_points (checked in the constructor on the first record)
                 if (!m_cfg.resample_points)
-                    LTM_THROW(path, ": ", r->scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points);
+                    LTM_THROW(path, ": ", r->scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points,
+                              " (resample_points=true samples them afresh from the regenerated house)");
                 ScenePoints sampled = fresh_points(*r);
                 const Vec3f s = sampled.emission_scale;
                 if (c->emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
@@ -247,7 +248,8 @@ TrainStepLog Trainer::train_step() {
         std::iota(perm.begin(), perm.end(), size_t(0));
         Pcg32 perm_rng(hash_keys({m_cfg.seed, 0x5ce4e5ull, epoch}));
         for (size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[perm_rng.next_below(uint32_t(i))]);
-        // One of the house's point sets per draw (TrainConfig::point_sets; 1: always the record's).
+        // One of the house's point sets per draw (TrainConfig::point_sets; 1: always set 0, the
+        // record's own points, or with resample_points at another M a fresh set of its own).
         const int set = m_cfg.point_sets > 1 ? int(hash_keys({m_cfg.seed, 0x5e75e7ull, u}) % uint64_t(m_cfg.point_sets)) : 0;
         CachedScene &sc = scene(perm[u % n], set);
         const int64_t nq = sc.query_points.size(0);

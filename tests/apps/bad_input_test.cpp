@@ -307,12 +307,20 @@ TEST(BadInput, EvalScenePointsAutoPerScene) {
 
 // A model whose config asks for auto_scene_points (`ltm export --set auto_scene_points=true`)
 // renders and evaluates with the scene's auto count when --scene-points is not given, and with the
-// user's count when it is; export refuses keys that carry parameters.
+// user's count when it is; with it off (exported from the shipped model, which has it on), the
+// model's own 8 192. Export refuses keys that carry parameters.
 TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
     test::TempDir dir;
-    const std::string model = dir.path("auto.safetensors");
-    const Result e = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--half", "--set", "auto_scene_points=true", "-o",
-                          model, "-q"});
+    const std::string fixed = dir.path("fixed.safetensors"), model = dir.path("auto.safetensors");
+    const Result off = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--half", "--set", "auto_scene_points=false", "-o",
+                            fixed, "-q"});
+    ASSERT_EQ(off.code, 0) << off.err;
+    const Result f = run({"render", "builtin:cornell-box", "--method", "neural", "--model", fixed, "--width", "16", "--height", "16", "-o",
+                          dir.path("fixed")});
+    ASSERT_EQ(f.code, 0) << f.err;
+    EXPECT_EQ(f.err.find("--scene-points auto"), std::string::npos) << f.err;
+    EXPECT_NE(read_file(dir.path("fixed.timings.json")).find("\"scene_points\": 8192"), std::string::npos);
+    const Result e = run({"export", fixed, "--half", "--set", "auto_scene_points=true", "-o", model, "-q"});
     ASSERT_EQ(e.code, 0) << e.err;
     const Result a = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--width", "16", "--height", "16", "-o",
                           dir.path("auto")});
@@ -327,6 +335,13 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
                           "--baseline-spp", "1", "--no-grids", "-o", dir.path("eval")});
     ASSERT_EQ(v.code, 0) << v.err;
     EXPECT_NE(read_file(dir.path("eval/report.json")).find("\"scene_points\": \"auto\""), std::string::npos);
+    // Two models that disagree: the top level names each one's.
+    const Result mixed = run({"eval", "--model", model, "--ablation", "fixed=" + fixed, "--scenes", "builtin:cornell-box", "--width", "16",
+                              "--height", "16", "--ref-spp", "4", "--baseline-spp", "1", "--no-grids", "-o", dir.path("mixed")});
+    ASSERT_EQ(mixed.code, 0) << mixed.err;
+    const std::string report = read_file(dir.path("mixed/report.json"));
+    EXPECT_NE(report.find("\"ours\": \"auto\""), std::string::npos) << report.substr(0, 400);
+    EXPECT_NE(report.find("\"fixed\": 8192"), std::string::npos);
     const Result w = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--set", "scene_points=4096", "-o", dir.path("w.safetensors")});
     EXPECT_EQ(w.code, 1) << w.err;
     EXPECT_NE(w.err.find("only physics.prior_* keys and auto_scene_points"), std::string::npos) << w.err;
@@ -339,8 +354,8 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
 TEST(BadInput, PriorTreeRendersPastTheDenseBound) {
     test::TempDir dir;
     const std::string model = test::source_path("models/ltm-cpu.safetensors");
-    const Result dense = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--width", "24", "--height", "24",
-                              "-o", dir.path("dense")});
+    const Result dense = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "8192", "--width",
+                              "24", "--height", "24", "-o", dir.path("dense")});
     ASSERT_EQ(dense.code, 0) << dense.err;
     const Result tree = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--prior-theta", "0.5",
                              "--scene-points", "40000", "--width", "24", "--height", "24", "-o", dir.path("tree")});

@@ -155,6 +155,14 @@ TEST(Cli, DatasetTrainExportInfoSmoke) {
     r = run({"info", run_dir + "/last.ltmckpt"});
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.out.find("step       3"), std::string::npos) << r.out;
+    // Weights whose config asks for the auto point count (an inference policy) train at their
+    // scene_points when their config comes from --init, and the run's config says so.
+    const std::string auto_weights = dir.path("auto.safetensors");
+    ASSERT_EQ(run({"export", weights, "--set", "auto_scene_points=true", "-o", auto_weights, "-q"}).code, 0);
+    r = run({"train", "--init", auto_weights, "--data", data, "--out", dir.path("run-auto"), "--steps", "1", "--set", "batch_queries=256"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("auto_scene_points off for training"), std::string::npos) << r.err;
+    EXPECT_EQ(read_file(dir.path("run-auto/model.json")).find("auto_scene_points"), std::string::npos);
     // A model whose M does not match the records is refused with the preset named.
     r = run({"train", "--model", test::source_path("configs/model/cpu.json"), "--data", data, "--out", dir.path("run2")});
     EXPECT_EQ(r.code, 1);
