@@ -123,7 +123,13 @@ int main(int argc, char **argv) {
     int floor_views = 0;
     try {
         for (const auto &[name, path] : scene_list) {
-            const Scene scene = path.empty() ? generate_indoor(GenConfig{}, std::stoull(name.substr(5))).scene : load_scene(path);
+            Scene scene = path.empty() ? generate_indoor(GenConfig{}, std::stoull(name.substr(5))).scene : load_scene(path);
+            // PRIOR_ABLATION_CONDUCTOR_ALBEDO=1: conductors' scene points carry their F0 as albedo
+            // (else the material's unused diffuse albedo, 0.8 by default). The reference is
+            // unchanged: the path tracer reads only a conductor's F0 and roughness.
+            if (std::getenv("PRIOR_ABLATION_CONDUCTOR_ALBEDO"))
+                for (Material &mat : scene.materials)
+                    if (mat.bsdf == BsdfKind::conductor) mat.albedo = Texture::constant(mat.specular);
             const EmbreeAccel accel(scene);
             // The eval's camera and reference tracer (eval/experiment.cpp: view 0 of 1, role 1).
             const Camera cam = eval_view_camera(scene, 0, 1, size, size);
