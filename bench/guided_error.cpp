@@ -75,7 +75,7 @@ int main(int argc, char **argv) {
         const RenderedImage ref = render_pathtraced(PathTracer(accel, cfg), cam, ref_spp);
         LoadedModel m = load_model(argv[2]);
         // The point count `ltm render --method guided` would use (the model's own, or the scene's auto).
-        if (scene_points_for(m.model, 0) == k_scene_points_auto) set_auto_scene_points(m.model, scene, false);
+        if (apply_point_options(m.model, 0, -1) == k_scene_points_auto) set_auto_scene_points(m.model, scene, false);
         GuideBuildOptions go;
         go.points = guide_points, go.resolution = guide_res;
         const GuideBuild guide = build_guide_cache(m.model, accel, go);

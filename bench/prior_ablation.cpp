@@ -147,14 +147,13 @@ int main(int argc, char **argv) {
             const Color3d mc = mean_color(ref_hits);
             const Image flat = scatter_to_image(gb, std::vector<Vec3f>(gb.n_hits(), Vec3f{float(mc[0]), float(mc[1]), float(mc[2])}));
             const double flat_mse = compare_images(flat, ref).mse;
-            if (ref_noise) {   // as eval's reference_noise_mse: MSE(ref, twin)/2 at the reference's tone scale
+            if (ref_noise) {   // as `ltm eval --ref-noise`: against the reference's twin
                 PathTracerConfig twin_cfg = eval_tracer_config(0, EvalRole::reference_twin);
                 twin_cfg.max_depth = cfg.max_depth;   // the reference's depth (PRIOR_ABLATION_REF_DEPTH)
                 const Image twin = reference_irradiance(cache, scene, cam, gb, PathTracer(accel, twin_cfg), twin_cfg, ref_spp,
                                                         {{"scene", name}, {"role", "reference twin"}})
                                        .indirect;
-                const float s = tonemap_scale(ref);
-                floor_sum += 0.5 * mse(tonemap(twin, s), tonemap(ref, s)), ++floor_views;
+                floor_sum += reference_noise_mse(ref, twin), ++floor_views;
             }
             // PRIOR_ABLATION_BURIED=x: scene points buried within x nominal spacings count as enclosed.
             const char *buried = std::getenv("PRIOR_ABLATION_BURIED");

@@ -29,12 +29,6 @@
 
 using namespace ltm;
 
-namespace {
-double since(std::chrono::steady_clock::time_point t0) {
-    return seconds_since(t0);
-}
-}  // namespace
-
 int main(int argc, char **argv) {
     if (argc < 4) {
         std::fprintf(stderr, "usage: %s SCENES M1,M2,... THETA1,THETA2,... [size=128] [clusters=1024]\n", argv[0]);
@@ -60,7 +54,7 @@ int main(int argc, char **argv) {
             for (int64_t M : counts) {
                 const auto ts = std::chrono::steady_clock::now();
                 const ScenePoints sp = sample_scene_points(accel, M, 0, true);
-                const double sample_s = since(ts);
+                const double sample_s = seconds_since(ts);
                 const float spacing = float(std::sqrt(scene.total_area() / double(sp.points.size())));
                 std::vector<Vec3f> dense_e;
                 for (float theta : thetas) {
@@ -69,15 +63,15 @@ int main(int argc, char **argv) {
                     const auto t0 = std::chrono::steady_clock::now();
                     const TransportPrior prior = solve_transport_prior(sp.points, spacing * spacing, 5, &sp.emission_scale, vis, nullptr,
                                                                        PriorBalance::none, true, theta);
-                    const double solve_all = since(t0);
+                    const double solve_all = seconds_since(t0);
                     // The visibility alone (the same call without bounces), to split the solve's time.
                     const auto tv = std::chrono::steady_clock::now();
                     solve_transport_prior(sp.points, spacing * spacing, 0, &sp.emission_scale, vis, nullptr, PriorBalance::none, true, 0.f);
-                    const double vis_s = since(tv);
+                    const double vis_s = seconds_since(tv);
                     const auto tg = std::chrono::steady_clock::now();
                     std::vector<Vec3f> e(gb.n_hits());
                     gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
-                    const double gather_s = since(tg);
+                    const double gather_s = seconds_since(tg);
                     double visited = 0, aggregates = 0, exact = 0, mb = 0;
                     if (prior.tree) {
                         PriorTree::Scratch scratch;

@@ -92,10 +92,8 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     } else {
 #if LTM_WITH_TORCH
         LoadedModel m = load_model(a.model);
-        const int scene_points = scene_points_for(m.model, a.scene_points);
-        if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-        if (scene_points > 0) set_scene_points(m.model, scene_points);
-        if (scene_points == k_scene_points_auto) set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
+        if (apply_point_options(m.model, a.scene_points, a.prior_theta) == k_scene_points_auto)
+            set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
         const EncodedScene enc = encode_scene(m.model, accel, common.seed);
         indirect = predict_gbuffer(m.model, enc, gb);
         // Direct light as `ltm render --method neural` computes it (ratio estimator when every

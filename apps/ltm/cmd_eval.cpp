@@ -91,10 +91,8 @@ void run(const EvalArgs &a, const CommonOptions &common) {
         models.push_back({spec.substr(0, eq), spec.substr(eq + 1), load_model(spec.substr(eq + 1)).model});
     }
     for (auto &m : models) {
-        const int scene_points = scene_points_for(m.model, a.scene_points);   // the user's, else auto if the model asks
-        if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-        if (scene_points > 0) set_scene_points(m.model, scene_points);
-        if (scene_points == k_scene_points_auto) m.enable_auto_scene_points(a.prior_theta >= 0);
+        if (apply_point_options(m.model, a.scene_points, a.prior_theta) == k_scene_points_auto)
+            m.enable_auto_scene_points(a.prior_theta >= 0);
     }
     // Scenes: seed ranges are generated in memory, files are loaded.
     const GenConfig gen = a.gen_config.empty() ? GenConfig{} : GenConfig::from_json(parse_json_file(a.gen_config), a.gen_config);

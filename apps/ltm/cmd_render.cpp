@@ -117,10 +117,8 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     GuideBuild guide;
     if (a.method == "guided") {
         LoadedModel m = load_model(a.model);
-        const int scene_points = scene_points_for(m.model, a.scene_points);
-        if (a.prior_theta >= 0) set_prior_theta(m.model, a.prior_theta);
-        if (scene_points > 0) set_scene_points(m.model, scene_points);
-        if (scene_points == k_scene_points_auto) set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
+        if (apply_point_options(m.model, a.scene_points, a.prior_theta) == k_scene_points_auto)
+            set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
         GuideBuildOptions go;
         go.points = a.guide_points, go.resolution = a.guide_resolution, go.seed = common.seed;
         guide = build_guide_cache(m.model, accel, go);

@@ -75,14 +75,12 @@ Image reference_image(const EvalScene &es, const Camera &cam, const GBuffer &gb,
     return std::move(ref.indirect);
 }
 
-// ViewResult::reference_noise_mse: a twin of the reference (its spp, its own streams; cached like
-// it), their tone-mapped MSE at the reference's scale, halved.
-double reference_noise_mse(const EvalScene &es, const EmbreeAccel &accel, const Camera &cam, const GBuffer &gb,
-                           const Image &ref, const EvalOptions &opt) {
+// ViewResult::reference_noise_mse: against a twin of the reference (its spp, its own streams;
+// cached like it).
+double view_reference_noise(const EvalScene &es, const EmbreeAccel &accel, const Camera &cam, const GBuffer &gb,
+                            const Image &ref, const EvalOptions &opt) {
     const PathTracerConfig cfg = eval_tracer_config(opt.seed, EvalRole::reference_twin);
-    const Image twin = view_reference(es, cam, gb, PathTracer(accel, cfg), cfg, opt, "reference twin").indirect;
-    const float s = tonemap_scale(ref);
-    return 0.5 * mse(tonemap(twin, s), tonemap(ref, s));
+    return reference_noise_mse(ref, view_reference(es, cam, gb, PathTracer(accel, cfg), cfg, opt, "reference twin").indirect);
 }
 
 }  // namespace
@@ -155,7 +153,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             vr.scene = es.name, vr.view = cam.name, vr.pixels = int64_t(gb.n_hits());
             log_info("eval: ", es.name, " / ", cam.name, " (", si + 1, "/", scenes.size(), ")");
             const Image ref = reference_image(es, cam, gb, pt_ref, tracer_config(EvalRole::reference), opt, &vr);
-            if (opt.reference_noise) vr.reference_noise_mse = reference_noise_mse(es, accel, cam, gb, ref, opt);
+            if (opt.reference_noise) vr.reference_noise_mse = view_reference_noise(es, accel, cam, gb, ref, opt);
             const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
             auto add = [&](const std::string &method, const Image &img, double secs, int spp, int64_t points = 0) {
                 vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits), points});

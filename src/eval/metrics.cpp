@@ -190,6 +190,12 @@ ImageMetrics compare_images(const Image &test, const Image &reference) {
     return m;
 }
 
+double reference_noise_mse(const Image &reference, const Image &twin) {
+    check_pair(twin, reference, "reference_noise_mse");
+    const float scale = tonemap_scale(reference);
+    return 0.5 * mse(tonemap(twin, scale), tonemap(reference, scale));
+}
+
 ImageMetrics compare_images_masked(const Image &test, const Image &reference, const std::vector<uint8_t> &mask) {
     check_pair(test, reference, "compare_images_masked");
     if (mask.size() != reference.pixels.size())

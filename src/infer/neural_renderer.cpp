@@ -325,9 +325,11 @@ void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given
     log_info("--scene-points auto: ", m, " scene points for ", scene.n_triangles(), " triangles", tree ? ", the prior through its tree (θ 0.5)" : "");
 }
 
-int scene_points_for(const LtmModel &model, int given) {
-    if (given != 0) return given;
-    return model->cfg.auto_scene_points ? int(k_scene_points_auto) : 0;
+int apply_point_options(LtmModel &model, int given, double prior_theta) {
+    const int n = given != 0 ? given : model->cfg.auto_scene_points ? int(k_scene_points_auto) : 0;
+    if (prior_theta >= 0) set_prior_theta(model, prior_theta);
+    if (n > 0) set_scene_points(model, n);
+    return n;
 }
 
 void set_prior_theta(LtmModel &model, double theta) {

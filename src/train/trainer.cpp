@@ -104,18 +104,14 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
     // of the expected format.
     const SceneRecord first = read_record(m_train_paths.front());
     if (int(first.scene_points.size()) != model_cfg.scene_points) {
-        if (!cfg.resample_points)
-            LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (", model_cfg.name,
-                      ") expects ", model_cfg.scene_points, " (dataset preset '",
-                      first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")),
-                      "'; resample_points=true samples the model's afresh from each regenerated house)");
+        const std::string mismatch = detail::concat(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (",
+                                                    model_cfg.name, ") expects ", model_cfg.scene_points, " (dataset preset '",
+                                                    first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")), "'");
+        if (!cfg.resample_points) LTM_THROW(mismatch, "; resample_points=true samples the model's afresh from each regenerated house)");
         try {
             regenerate_scene(first);
         } catch (const std::exception &e) {
-            LTM_THROW(m_train_paths.front(), ": record has ", first.scene_points.size(), " scene points, the model (", model_cfg.name,
-                      ") expects ", model_cfg.scene_points, " (dataset preset '",
-                      first.metadata.value("preset", OrderedJson::object()).value("name", std::string("?")),
-                      "'), and its house cannot be regenerated to sample them afresh: ", e.what());
+            LTM_THROW(mismatch, "), and its house cannot be regenerated to sample them afresh: ", e.what());
         }
         log_info(m_train_paths.front(), ": records hold ", first.scene_points.size(), " scene points; the model's ", model_cfg.scene_points,
                  " are sampled afresh from each regenerated house");
@@ -167,13 +163,18 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
     if (!slot) {
         auto c = std::make_unique<CachedScene>();
         PointSet points;
-        // Sampled afresh from the regenerated house as the record's were (its preset's rules), at
-        // the model's M: extra point sets, and every set of a record baked at another M.
-        auto fresh_points = [&](const SceneRecord &r) {
+        // Points sampled afresh from the regenerated house as the record's were (its preset's rules),
+        // at the model's M, with their emission scale where the record has one: extra point sets,
+        // and every set of a record baked at another M.
+        auto use_fresh_points = [&](const SceneRecord &r) {
             const DataPreset p = DataPreset::from_json(r.metadata.at("preset"), path + " (preset)");
             const Scene house = regenerate_scene(r);
             const EmbreeAccel accel(house);
-            return sample_scene_points(accel, m_model_cfg.scene_points, hash_keys({r.seed, 0x9015e75ull, uint64_t(set)}), p.exclude_enclosed);
+            ScenePoints sampled =
+                sample_scene_points(accel, m_model_cfg.scene_points, hash_keys({r.seed, 0x9015e75ull, uint64_t(set)}), p.exclude_enclosed);
+            const Vec3f s = sampled.emission_scale;
+            if (c->emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
+            points = std::move(sampled.points);
         };
         if (set == 0) {
             auto r = std::make_shared<SceneRecord>(read_record(path));
@@ -190,21 +191,15 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
                 if (!m_cfg.resample_points)
                     LTM_THROW(path, ": ", r->scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points,
                               " (resample_points=true samples them afresh from the regenerated house)");
-                ScenePoints sampled = fresh_points(*r);
-                const Vec3f s = sampled.emission_scale;
-                if (c->emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
-                points = std::move(sampled.points);
+                use_fresh_points(*r);
             }
             c->record = std::move(r);
         } else {
             // Another point set of the same house: the record's queries and targets, fresh points.
             const CachedScene &own = scene(index, 0);
             c->record = own.record;
-            c->query_points = own.query_points, c->target = own.target;
-            ScenePoints sampled = fresh_points(*c->record);
-            const Vec3f s = sampled.emission_scale;
-            if (own.emission_scale.defined()) c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
-            points = std::move(sampled.points);
+            c->query_points = own.query_points, c->target = own.target, c->emission_scale = own.emission_scale;
+            use_fresh_points(*c->record);
         }
         const auto sp = point_tensor(points);
         c->geometry = m_model->scene_geometry(sp);   // FPS + kNN once per scene (CPU), cached

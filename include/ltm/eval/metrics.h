@@ -69,6 +69,11 @@ struct ImageMetrics {
 /// pair and rel_mse on the linear pair. Not symmetric: swapping arguments changes s.
 ImageMetrics compare_images(const Image &test, const Image &reference);
 
+/// The reference's own noise in compare_images' MSE: from a twin of it (same spp, independent
+/// samples), both tone-mapped at the reference's scale, MSE(reference, twin)/2 (E (a − b)² = 2σ² per
+/// pixel; eval/experiment.h, ViewResult::reference_noise_mse).
+double reference_noise_mse(const Image &reference, const Image &twin);
+
 /// compare_images on a region: the pixels where mask[y·width + x] != 0 (e.g. the conductors of a
 /// glossy scene). Both images are tone-mapped with the whole reference's scale (the region cannot
 /// pick its own exposure); mse and rel_mse average over the region's pixels and channels, psnr

@@ -45,10 +45,13 @@ void set_prior_theta(LtmModel &model, double theta);
 /// set_prior_theta. (The CLI holds "auto" as k_scene_points_auto.)
 inline constexpr int64_t k_scene_points_auto = -1;
 void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given);
-/// The --scene-points a command runs with: `given` when the user gave one (> 0 or auto), else
-/// k_scene_points_auto for a model whose config asks for it (ModelConfig::auto_scene_points), else
-/// 0 (the model's own M).
-int scene_points_for(const LtmModel &model, int given);
+/// A command's `--prior-theta` (prior_theta ≥ 0; < 0: not given) and `--scene-points` (`given`: > 0 a
+/// count, k_scene_points_auto, 0 not given) on a loaded model: θ, then an explicit count (its bounds
+/// fail here, before any scene loads). Returns the count the command runs with: `given` when the user
+/// gave one, else k_scene_points_auto for a model whose config asks for it
+/// (ModelConfig::auto_scene_points), else 0 (the model's own M). On k_scene_points_auto the caller
+/// calls set_auto_scene_points once the scene is loaded (eval: EvalModel::enable_auto_scene_points).
+int apply_point_options(LtmModel &model, int given, double prior_theta);
 
 struct EncodedScene {
     SceneLatents latents;
