@@ -10,7 +10,7 @@
 #   3. select by views on real-mix validation houses (scripts/select-by-views.sh), best last
 # A fresh machine has lost DATA and RUN: the script starts them again from INIT, which lives in git.
 # Usage: nohup nice scripts/train-mix.sh > mix.log 2>&1 &   (env: BUILD or LTM, SEEDS, DATA, RUN,
-# INIT, STEPS, LR, POINT_SETS, MODEL (the config to train into; default small-pi: records baked
+# INIT, STEPS, LR, POINT_SETS, THREADS (worker threads for training; 0 = all cores), MODEL (the config to train into; default small-pi: records baked
 # at another M than the model's have their points sampled afresh at its M), SELECT=0 to skip step 3)
 set -euo pipefail
 BUILD=${BUILD:-build}
@@ -24,8 +24,9 @@ LR=${LR:-5e-4}
 POINT_SETS=${POINT_SETS:-4}
 MODEL=${MODEL:-configs/model/small-pi.json}
 SELECT=${SELECT:-1}
+THREADS=${THREADS:-0}
 "$LTM" dataset build --config configs/data/cpu-s64v-mix.json --seed-range "$SEEDS" -o "$DATA"
-train=("$LTM" train --model "$MODEL" --data "$DATA" --out "$RUN"
+train=("$LTM" train --threads "$THREADS" --model "$MODEL" --data "$DATA" --out "$RUN"
        --config configs/train/physics.json --steps "$STEPS" --set lr="$LR" --set warmup_steps=50
        --set scenes_per_step=1 --set batch_queries=4096 --set val_fraction=0.03 --set loss=level-l2 --set level_cap=4
        --set point_sets="$POINT_SETS" --set resample_points=true --set val_scenes=8 --set val_every=200 --set ckpt_every=50

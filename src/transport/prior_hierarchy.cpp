@@ -215,159 +215,315 @@ PriorTree::Sums PriorTree::sums(const std::vector<Vec3f> &x) const {
     return s;
 }
 
+namespace {
+// k_group lanes of floats, and of their comparisons' masks (GCC's vector extensions: element-wise
+// IEEE operations, split into the target's SIMD width; a scalar operand is broadcast).
+constexpr int k_lanes = PriorTree::k_group;
+typedef float f8 __attribute__((vector_size(4 * k_lanes)));
+typedef int32_t m8 __attribute__((vector_size(4 * k_lanes)));
+static_assert(sizeof(f8) == sizeof(float) * k_lanes);
+// Vectors wider than the target's registers are passed in memory; these helpers are internal and
+// inlined, so the ABI note about it does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+inline f8 abs8(f8 v) { return (f8)((m8)v & 0x7fffffff); }
+inline f8 sqrt8(f8 v) {
+    f8 r;
+#if defined(__SSE__)
+    typedef float f4 __attribute__((vector_size(16)));
+    for (int h = 0; h < k_lanes; h += 4) {
+        const f4 x = {v[h], v[h + 1], v[h + 2], v[h + 3]}, y = __builtin_ia32_sqrtps(x);
+        for (int l = 0; l < 4; ++l) r[h + l] = y[l];
+    }
+#else
+    for (int l = 0; l < k_lanes; ++l) r[l] = std::sqrt(v[l]);
+#endif
+    return r;
+}
+inline uint32_t bits(m8 m) {
+    uint32_t b = 0;
+    for (int l = 0; l < k_lanes; ++l) b |= m[l] ? 1u << l : 0u;
+    return b;
+}
+
+// The walking receivers lane by lane (structure of arrays). Lanes past `count` repeat the last
+// receiver: their arithmetic stays finite and is never used.
+struct Lanes {
+    f8 px, py, pz, nx, ny, nz;
+    f8 plane;   ///< −n·p: the box bound's start
+    Lanes(const PriorTree::Receiver *r, int count) {
+        for (int l = 0; l < k_lanes; ++l) {
+            const PriorTree::Receiver &q = r[std::min(l, count - 1)];
+            px[l] = q.p.x, py[l] = q.p.y, pz[l] = q.p.z, nx[l] = q.n.x, ny[l] = q.n.y, nz[l] = q.n.z;
+            plane[l] = -dot(q.n, q.p);
+        }
+    }
+    Vec3f p(int l) const { return {px[l], py[l], pz[l]}; }
+    Vec3f n(int l) const { return {nx[l], ny[l], nz[l]}; }
+};
+}  // namespace
+
+// Every receiver makes its own decision at each node, by its own bounds (all lanes at once); what
+// the lanes share is the node's fetch, its stack entry and the descent while at least one of them
+// still opens it. Each lane meets its terms in the tree's preorder, as when it walks alone, so its
+// row is the same bit for bit whoever walks beside it.
 template <class Visit>
-void PriorTree::traverse(Vec3f p, Vec3f n, const View &view, Scratch &scratch, Visit &&visit) const {
-    if (m_tree.empty()) return;
+void PriorTree::traverse(const Receiver *receivers, int count, std::vector<Entry> &stack, Visit &&visit) const {
+    if (m_tree.empty() || count <= 0) return;
+    const Lanes q(receivers, count);
     const float near_reach = m_patches ? 2.5f * m_side : 0.f;
     const size_t C = m_clusters, U = m_upper.size();
-    auto &stack = scratch.stack;
-    stack.assign(1, {0u, -1.f});   // (tree node, its weight; < 0: not known yet)
+    const f8 zero = {};
+    // Neighbours often blend the same clusters: a lane whose view equals an earlier lane's (`same`)
+    // copies that lane's weights where both still descend.
+    int same[k_group];
+    for (int l = 0; l < k_group; ++l) {
+        same[l] = l;
+        const View &a = receivers[std::min(l, count - 1)].view;
+        for (int j = 0; j < l && same[l] == l; ++j) {
+            const View &b = receivers[j].view;
+            if (a.K != b.K) continue;
+            bool equal = true;
+            for (int k = 0; k < a.K && equal; ++k) equal = a.ids[k] == b.ids[k] && a.w[k] == b.w[k];
+            if (equal) same[l] = j;
+        }
+    }
+    Entry root;
+    root.mask = (1u << count) - 1;
+    for (float &w : root.w) w = -1.f;
+    stack.assign(1, root);
     while (!stack.empty()) {
-        auto [t, w] = stack.back();
+        const Entry e = stack.back();
         stack.pop_back();
         visit.visited();
-        const Node &s = m_tree[t];
-        bool uniform = true;
-        if (view.K == 0) {
-            w = 1.f;
-        } else if (w < 0.f) {
-            w = 0.f;
-            if (s.cluster >= 0) {   // a cluster's root: Σ_k w_k V(c_k, c)
-                for (int k = 0; k < view.K; ++k) w += view.w[k] * float(m_visible[size_t(view.ids[k]) * C + size_t(s.cluster)]);
-            } else {                // above the clusters: uniform when each blended row sees all or none of them
-                for (int k = 0; k < view.K; ++k) {
-                    const uint8_t state = m_upper_state[size_t(view.ids[k]) * U + size_t(s.upper)];
-                    if (state == 2) uniform = false;
-                    else w += view.w[k] * float(state);
+        const Node &s = m_tree[e.node];
+        uint32_t mask = e.mask;
+        float w[k_group];
+        bool uniform[k_group];
+        for (int l = 0; l < k_group; ++l) {
+            w[l] = e.w[l], uniform[l] = true;
+            if (!(mask >> l & 1u)) continue;
+            const View &view = receivers[l].view;
+            if (view.K == 0) {
+                w[l] = 1.f;
+            } else if (w[l] < 0.f && same[l] != l && (mask >> same[l] & 1u)) {
+                w[l] = w[same[l]], uniform[l] = uniform[same[l]];
+            } else if (w[l] < 0.f) {
+                w[l] = 0.f;
+                if (s.cluster >= 0) {   // a cluster's root: Σ_k w_k V(c_k, c)
+                    for (int k = 0; k < view.K; ++k) w[l] += view.w[k] * float(m_visible[size_t(view.ids[k]) * C + size_t(s.cluster)]);
+                } else {                // above the clusters: uniform when each blended row sees all or none of them
+                    for (int k = 0; k < view.K; ++k) {
+                        const uint8_t state = m_upper_state[size_t(view.ids[k]) * U + size_t(s.upper)];
+                        if (state == 2) uniform[l] = false;
+                        else w[l] += view.w[k] * float(state);
+                    }
+                    if (!uniform[l]) w[l] = 1.f;   // some of it is seen: open it
                 }
-                if (!uniform) w = 1.f;   // some of it is seen: open it
             }
+            if (!(w[l] > 0.f)) mask &= ~(1u << l);
         }
-        if (!(w > 0.f)) continue;
-        const Vec3f d = s.centroid - p;
-        const float r2 = dot(d, d), dist = std::sqrt(r2), cr = dot(n, d);
+        if (!mask) continue;
+        const f8 dx = s.centroid.x - q.px, dy = s.centroid.y - q.py, dz = s.centroid.z - q.pz;
+        uint32_t open = mask;
         if (s.normal_length > 0.f && s.cos_cone > 0.f) {
             // Bounds on the members' cosines (times r) with the receiver (A_j = n·(p_j − p)) and their
             // own (B_j = −n_j·(p_j − p)): A_j from the bounding box and from the centroid, the normal's
             // tilt and the thickness (n·e_j ≤ |n·N̂| h + |n × N̂| R); B_j from −N̂·d, with n_j within
             // δ = 2 sin(β/2) of N̂ and |n_j·e_j| ≤ h + δ R.
             const Vec3f nhat = s.normal_sum / s.normal_length;
-            const float along = std::abs(dot(n, nhat)), across = std::sqrt(std::max(0.f, 1.f - along * along));
-            const float spread = along * s.thickness + across * s.radius;
-            float box_lo = -dot(n, p), box_hi = box_lo;
+            const f8 r2 = dx * dx + dy * dy + dz * dz, dist = sqrt8(r2);
+            const f8 cr = q.nx * dx + q.ny * dy + q.nz * dz;
+            const f8 along = abs8(q.nx * nhat.x + q.ny * nhat.y + q.nz * nhat.z);
+            const f8 one = 1.f - along * along, across = sqrt8(0.f < one ? one : zero);
+            const f8 spread = along * s.thickness + across * s.radius;
+            f8 box_lo = q.plane, box_hi = box_lo;
             for (int a = 0; a < 3; ++a) {
-                const float u = n[a] * s.box_min[a], v = n[a] * s.box_max[a];
-                box_lo += std::min(u, v), box_hi += std::max(u, v);
+                const f8 &na = a == 0 ? q.nx : a == 1 ? q.ny : q.nz;
+                const f8 u = na * s.box_min[a], v = na * s.box_max[a];
+                box_lo += v < u ? v : u, box_hi += u < v ? v : u;
             }
-            const float a_lo = std::max(box_lo, cr - spread), a_hi = std::min(box_hi, cr + spread);
-            const float b_mid = -dot(nhat, d), b_slack = s.delta * (dist + s.radius) + s.thickness;
+            const f8 lo = cr - spread, hi = cr + spread;
+            const f8 a_lo = box_lo < lo ? lo : box_lo, a_hi = hi < box_hi ? hi : box_hi;
+            const f8 b_mid = -(nhat.x * dx + nhat.y * dy + nhat.z * dz);
+            const f8 b_slack = s.delta * (dist + s.radius) + s.thickness;
             // Exactly 0: every member behind the receiver's plane (its patch too: a corner lies at most
             // s/√2 · sin∠(n, n_j) off the centre along n, ∠(n, n_j) ≤ ∠(n, N̂) + β), or the receiver
             // behind every member's plane (where the point formula and the patch both give 0).
-            float corner = 0.f;
-            if (m_patches) {
-                const float cb = s.cos_cone, sb = s.sin_cone;
-                const float c_tilt = along * cb - across * sb;   // cos(∠(n, N̂) + β)
-                corner = 0.7072f * m_side * (c_tilt <= 0.f ? 1.f : across * cb + along * sb);
+            const float cb = s.cos_cone, sb = s.sin_cone;
+            const f8 c_tilt = along * cb - across * sb;   // cos(∠(n, N̂) + β)
+            const f8 corner = m_patches ? 0.7072f * m_side * (c_tilt <= 0.f ? 1.f + zero : across * cb + along * sb) : zero;
+            const uint32_t skip = bits((a_hi + corner <= m_coplanar) | (b_mid + b_slack <= 0.f)) & open;
+            uint32_t aggregate = 0;
+            if (m_theta > 0.f && s.cos_cone >= k_flat_cos)
+                aggregate = bits((s.radius < m_theta * dist) & (dist - s.radius > near_reach) & (a_lo > 0.f) & (b_mid - b_slack > 0.f)) &
+                            open & ~skip;
+            for (int l = 0; l < k_group; ++l) {
+                if (!(aggregate >> l & 1u)) continue;
+                if (uniform[l]) visit.aggregate(l, e.node, w[l], Vec3f(dx[l], dy[l], dz[l]));
+                else aggregate &= ~(1u << l);
             }
-            if (a_hi + corner <= m_coplanar || b_mid + b_slack <= 0.f) continue;
-            if (uniform && m_theta > 0.f && s.cos_cone >= k_flat_cos && s.radius < m_theta * dist && dist - s.radius > near_reach &&
-                a_lo > 0.f && b_mid - b_slack > 0.f) {
-                visit.aggregate(t, w, d);
-                continue;
-            }
+            open &= ~(skip | aggregate);
+            if (!open) continue;
         }
         if (s.child[0] < 0) {
-            visit.exact(s.lo, s.hi, w);
+            visit.exact(open, s.lo, s.hi, w);
             continue;
         }
         // Below a cluster's root the weight is the cluster's.
-        const float wc = s.cluster >= 0 ? w : -1.f;
-        stack.push_back({uint32_t(s.child[1]), wc});
-        stack.push_back({uint32_t(s.child[0]), wc});
+        Entry child;
+        child.mask = open;
+        for (int l = 0; l < k_group; ++l) child.w[l] = s.cluster >= 0 ? w[l] : -1.f;
+        child.node = uint32_t(s.child[1]);
+        stack.push_back(child);
+        child.node = uint32_t(s.child[0]);
+        stack.push_back(child);
     }
 }
 
-void PriorTree::record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &scratch) const {
-    row.clear();
-    const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
-    struct Visit {
-        const PriorTree &tree;
-        Vec3f p, n;
-        float near_reach, scale;
-        Row &row;
-        void visited() {}
-        // The expansion of k about the centroid (header): Σ_j k(p_j) x_j ≈ k(c)·f·Σ_j x_j + ∇k(c)·Σ_j x_j e_j.
-        void aggregate(uint32_t t, float w, Vec3f d) {
-            const Node &s = tree.m_tree[t];
-            const double u = double(dot(d, d)), reg = double(tree.m_reg);
-            const double h = u * (u + reg), h1 = 2 * u + reg;
-            const double g = 1 / h, g1 = -h1 / (h * h), g2 = (2 * h1 * h1 - 2 * h) / (h * h * h);
-            const double count = double(s.hi - s.lo);
-            const Vec3f mbar = s.normal_sum / float(count);
-            const double A = double(dot(n, d)), B = -double(dot(mbar, d));
-            const auto quad = [&s](Vec3f a, Vec3f b) {   // aᵀ Σ b
-                const float *S = s.spread;
-                return double(a.x * (S[0] * b.x + S[1] * b.y + S[2] * b.z) + a.y * (S[1] * b.x + S[3] * b.y + S[4] * b.z) +
-                              a.z * (S[2] * b.x + S[4] * b.y + S[5] * b.z));
-            };
-            const double trace = double(s.spread[0] + s.spread[3] + s.spread[5]);
-            const double k = A * B * g;
-            const double second = g * -quad(n, mbar) + 2 * g1 * (A * -quad(mbar, d) + B * quad(n, d)) + A * B * (g1 * trace + 2 * g2 * quad(d, d));
-            // The second-order terms as a factor of the first-order sum: never flips its sign.
-            const double factor = std::clamp(1 + second / (count * k), 0.5, 1.5);
-            // The normals' first-order terms, M = Σ_j e_j n_jᵀ (0 when they are all equal):
-            // −A g tr M − g nᵀ M d − 2 A g′ dᵀ M d, as a factor on the whole sum (a uniform x stays exact).
-            const float *T = s.tilt;
-            const auto mq = [T](Vec3f a, Vec3f b) {   // aᵀ M b
-                return double(a.x * (T[0] * b.x + T[1] * b.y + T[2] * b.z) + a.y * (T[3] * b.x + T[4] * b.y + T[5] * b.z) +
-                              a.z * (T[6] * b.x + T[7] * b.y + T[8] * b.z));
-            };
-            const double tilt = -A * g * double(T[0] + T[4] + T[8]) - g * mq(n, d) - 2 * A * g1 * mq(d, d);
-            const double tilt_factor = std::clamp(1 + tilt / (count * k), 0.5, 1.5);
-            const double weight = double(w) * factor * tilt_factor;
-            row.den += weight * count * k;
-            // Σ_j x_j k(p_j): A g (−d · Σ_j n_j x_j) + ∇k(c) · Σ_j x_j e_j, ∇k(c) = B g n − A g n̄ + 2 A B g′ d.
-            const Vec3f along = d * float(-weight * A * g);
-            const Vec3f grad = (n * float(B * g) - mbar * float(A * g) + d * float(2 * A * B * g1)) * float(double(w) * tilt_factor);
-            row.aggregates.push_back({t, along, grad});
-        }
-        // The dense row's terms (transport_prior.cpp): the point formula, and within 2.5 s the
-        // square patch's form factor blended in over r ∈ [1.5 s, 2.5 s].
-        void exact(uint32_t lo, uint32_t hi, float w) {
-            const float s = tree.m_side;
-            for (uint32_t j = lo; j < hi; ++j) {
-                const float dx = tree.m_px[j] - p.x, dy = tree.m_py[j] - p.y, dz = tree.m_pz[j] - p.z;
-                const float r2 = dx * dx + dy * dy + dz * dz;
-                const float cr = n.x * dx + n.y * dy + n.z * dz;
-                const float cs = -(tree.m_nx[j] * dx + tree.m_ny[j] * dy + tree.m_nz[j] * dz);
-                float t = (cr > 0.f && cs > 0.f) ? cr * cs / (r2 * (r2 + tree.m_reg) + 1e-30f) : 0.f;
+// A walk's terms, per receiver (lane) in the order the walk meets them: each aggregate's coefficients
+// and each exactly summed node's, handed to a Sink that keeps them (RowSink: record_group) or sums
+// them against values at once (SumSink: gather_group). Both give den and Σ terms · x alike.
+template <class Sink> struct PriorTree::Terms {
+    const PriorTree &tree;
+    const Lanes &q;
+    Sink &sink;
+    float side, reg, near_reach, scale;
+    void visited() {}
+    // The expansion of k about the centroid (header): Σ_j k(p_j) x_j ≈ k(c)·f·Σ_j x_j + ∇k(c)·Σ_j x_j e_j.
+    void aggregate(int l, uint32_t t, float w, Vec3f d) {
+        const Node &s = tree.m_tree[t];
+        const Vec3f n = q.n(l);
+        const double u = double(dot(d, d));
+        const double h = u * (u + double(reg)), h1 = 2 * u + double(reg);
+        const double g = 1 / h, g1 = -h1 / (h * h), g2 = (2 * h1 * h1 - 2 * h) / (h * h * h);
+        const double count = double(s.hi - s.lo);
+        const Vec3f mbar = s.normal_sum / float(count);
+        const double A = double(dot(n, d)), B = -double(dot(mbar, d));
+        const auto quad = [&s](Vec3f a, Vec3f b) {   // aᵀ Σ b
+            const float *S = s.spread;
+            return double(a.x * (S[0] * b.x + S[1] * b.y + S[2] * b.z) + a.y * (S[1] * b.x + S[3] * b.y + S[4] * b.z) +
+                          a.z * (S[2] * b.x + S[4] * b.y + S[5] * b.z));
+        };
+        const double trace = double(s.spread[0] + s.spread[3] + s.spread[5]);
+        const double k = A * B * g;
+        const double second = g * -quad(n, mbar) + 2 * g1 * (A * -quad(mbar, d) + B * quad(n, d)) + A * B * (g1 * trace + 2 * g2 * quad(d, d));
+        // The second-order terms as a factor of the first-order sum: never flips its sign.
+        const double factor = std::clamp(1 + second / (count * k), 0.5, 1.5);
+        // The normals' first-order terms, M = Σ_j e_j n_jᵀ (0 when they are all equal):
+        // −A g tr M − g nᵀ M d − 2 A g′ dᵀ M d, as a factor on the whole sum (a uniform x stays exact).
+        const float *T = s.tilt;
+        const auto mq = [T](Vec3f a, Vec3f b) {   // aᵀ M b
+            return double(a.x * (T[0] * b.x + T[1] * b.y + T[2] * b.z) + a.y * (T[3] * b.x + T[4] * b.y + T[5] * b.z) +
+                          a.z * (T[6] * b.x + T[7] * b.y + T[8] * b.z));
+        };
+        const double tilt = -A * g * double(T[0] + T[4] + T[8]) - g * mq(n, d) - 2 * A * g1 * mq(d, d);
+        const double tilt_factor = std::clamp(1 + tilt / (count * k), 0.5, 1.5);
+        const double weight = double(w) * factor * tilt_factor;
+        const double den = weight * count * k;
+        // Σ_j x_j k(p_j): A g (−d · Σ_j n_j x_j) + ∇k(c) · Σ_j x_j e_j, ∇k(c) = B g n − A g n̄ + 2 A B g′ d.
+        const Vec3f along = d * float(-weight * A * g);
+        const Vec3f grad = (n * float(B * g) - mbar * float(A * g) + d * float(2 * A * B * g1)) * float(double(w) * tilt_factor);
+        sink.aggregate(l, t, den, along, grad);
+    }
+    // The dense row's terms (transport_prior.cpp): the point formula, and within 2.5 s the square
+    // patch's form factor blended in over r ∈ [1.5 s, 2.5 s]. Member by member, the point formula
+    // for every lane at once.
+    void exact(uint32_t mask, uint32_t lo, uint32_t hi, const float *w) {
+        const f8 zero = {};
+        for (uint32_t j = lo; j < hi; ++j) {
+            const f8 dx = tree.m_px[j] - q.px, dy = tree.m_py[j] - q.py, dz = tree.m_pz[j] - q.pz;
+            const f8 r2 = dx * dx + dy * dy + dz * dz;
+            const f8 cr = q.nx * dx + q.ny * dy + q.nz * dz;
+            const f8 cs = -(tree.m_nx[j] * dx + tree.m_ny[j] * dy + tree.m_nz[j] * dz);
+            const f8 t = (cr > 0.f) & (cs > 0.f) ? cr * cs / (r2 * (r2 + reg) + 1e-30f) : zero;
+            for (int l = 0; l < k_group; ++l) {
+                if (!(mask >> l & 1u)) continue;
+                float tl = t[l];
                 if (tree.m_patches) {
-                    const float r = std::sqrt(r2);
+                    const float r = std::sqrt(r2[l]);
                     if (r < near_reach) {
-                        const float beta = std::clamp((r - 1.5f * s) / s, 0.f, 1.f);
-                        const float patch = patch_form_factor(p, n, tree.m_pos[j], tree.m_nrm[j], s) * scale;
-                        t = (1.f - beta) * patch + beta * t;
+                        const float beta = std::clamp((r - 1.5f * side) / side, 0.f, 1.f);
+                        const float patch = patch_form_factor(q.p(l), q.n(l), tree.m_pos[j], tree.m_nrm[j], side) * scale;
+                        tl = (1.f - beta) * patch + beta * tl;
                     }
                 }
-                if (!(t > 0.f)) continue;
-                const double wt = double(w) * double(t);
-                row.den += wt;
-                row.exact.push_back({j, float(wt)});
+                if (!(tl > 0.f)) continue;
+                const double wt = double(w[l]) * double(tl);
+                sink.exact(l, j, wt);
             }
         }
-    } visit{*this, p, n, near_reach, scale, row};
-    traverse(p, n, view, scratch, visit);
+    }
+};
+
+namespace {
+// Keeps the terms as rows (record, record_group).
+struct RowSink {
+    PriorTree::Row *rows;
+    void aggregate(int l, uint32_t t, double den, Vec3f along, Vec3f grad) {
+        rows[l].den += den;
+        rows[l].aggregates.push_back({t, along, grad});
+    }
+    void exact(int l, uint32_t place, double wt) {
+        rows[l].den += wt;
+        rows[l].exact.push_back({place, float(wt)});
+    }
+};
+// Sums the terms against values as they come (gather_group): the aggregates' and the exact nodes'
+// shares apart and then added, as apply() adds them, so the answer is apply()'s to the bit.
+struct SumSink {
+    const PriorTree::Sums &x;
+    double den[PriorTree::k_group], agg[PriorTree::k_group][3], ex[PriorTree::k_group][3];
+    void aggregate(int l, uint32_t t, double d, Vec3f along, Vec3f grad) {
+        den[l] += d;
+        const Vec3f *dipole = &x.dipole[size_t(t) * 3], *moment = &x.moment[size_t(t) * 3];
+        for (int c = 0; c < 3; ++c) agg[l][c] += double(dot(along, dipole[c])) + double(dot(grad, moment[c]));
+    }
+    void exact(int l, uint32_t place, double wt) {
+        den[l] += wt;
+        const double coef = double(float(wt));
+        for (int c = 0; c < 3; ++c) ex[l][c] += coef * double(x.value[place][c]);
+    }
+};
+}  // namespace
+
+void PriorTree::record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &scratch) const {
+    const Receiver r{p, n, view};
+    record_group(&r, 1, &row, scratch);
+}
+
+void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Scratch &scratch) const {
+    if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
+    for (int l = 0; l < count; ++l) rows[l].clear();
+    const Lanes q(receivers, count);
+    RowSink sink{rows};
+    Terms<RowSink> terms{*this, q, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
+    traverse(receivers, count, scratch.stack, terms);
+}
+
+void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x, double *den, double (*num)[3],
+                             Scratch &scratch) const {
+    if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
+    const Lanes q(receivers, count);
+    SumSink sink{x, {}, {}, {}};
+    Terms<SumSink> terms{*this, q, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
+    traverse(receivers, count, scratch.stack, terms);
+    for (int l = 0; l < count; ++l) {
+        den[l] = sink.den[l];
+        for (int c = 0; c < 3; ++c) num[l][c] = sink.agg[l][c] + sink.ex[l][c];
+    }
 }
 
 void PriorTree::apply(const Row &row, const Sums &x, double num[3]) const {
-    num[0] = num[1] = num[2] = 0;
+    // The aggregates' share and the exact nodes' apart, then added (as gather_group sums them).
+    double agg[3] = {0, 0, 0}, ex[3] = {0, 0, 0};
     for (const Row::Aggregate &a : row.aggregates) {
         const Vec3f *dipole = &x.dipole[size_t(a.node) * 3], *moment = &x.moment[size_t(a.node) * 3];
-        for (int c = 0; c < 3; ++c) num[c] += double(dot(a.along, dipole[c])) + double(dot(a.grad, moment[c]));
+        for (int c = 0; c < 3; ++c) agg[c] += double(dot(a.along, dipole[c])) + double(dot(a.grad, moment[c]));
     }
     for (const Row::Exact &e : row.exact)
-        for (int c = 0; c < 3; ++c) num[c] += double(e.coef) * double(x.value[e.place][c]);
+        for (int c = 0; c < 3; ++c) ex[c] += double(e.coef) * double(x.value[e.place][c]);
+    for (int c = 0; c < 3; ++c) num[c] = agg[c] + ex[c];
 }
 
 size_t PriorTree::Row::bytes() const {
@@ -381,14 +537,53 @@ void PriorTree::row(Vec3f p, Vec3f n, const View &view, const Sums *x, double &d
     else num[0] = num[1] = num[2] = 0;
 }
 
+
+std::vector<uint32_t> PriorTree::group_order(const float *position, const float *normal, size_t stride, size_t n) {
+    Vec3f lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    auto finite = [](Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    for (size_t i = 0; i < n; ++i) {
+        const float *p = position + i * stride;
+        const Vec3f v(p[0], p[1], p[2]);
+        if (finite(v)) lo = min(lo, v), hi = max(hi, v);
+    }
+    // Spreads 10 bits so that two zeros follow each (the Morton interleave of three axes).
+    auto spread = [](uint64_t x) {
+        x &= 0x3ffu;
+        x = (x | (x << 16)) & 0x30000ffu;
+        x = (x | (x << 8)) & 0x300f00fu;
+        x = (x | (x << 4)) & 0x30c30c3u;
+        return (x | (x << 2)) & 0x9249249u;
+    };
+    std::vector<uint64_t> key(n);
+    for (size_t i = 0; i < n; ++i) {
+        const float *p = position + i * stride, *nn = normal + i * stride;
+        const Vec3f v(p[0], p[1], p[2]);
+        if (!finite(v)) {
+            key[i] = ~uint64_t(0);
+            continue;
+        }
+        uint64_t cell[3];
+        for (int a = 0; a < 3; ++a) {
+            const float ext = hi[a] - lo[a];
+            cell[a] = ext > 0.f ? uint64_t(std::min(1023.f, (v[a] - lo[a]) / ext * 1024.f)) : 0u;
+        }
+        key[i] = uint64_t(facing_class(Vec3f(nn[0], nn[1], nn[2]))) << 32 | spread(cell[0]) << 2 | spread(cell[1]) << 1 | spread(cell[2]);
+    }
+    std::vector<uint32_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = uint32_t(i);
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
+    return order;
+}
+
 PriorTree::Work PriorTree::count(Vec3f p, Vec3f n, const View &view, Scratch &scratch) const {
     struct Visit {
         Work w;
         void visited() { ++w.visited; }
-        void aggregate(uint32_t, float, Vec3f) { ++w.aggregates; }
-        void exact(uint32_t lo, uint32_t hi, float) { w.exact += hi - lo; }
+        void aggregate(int, uint32_t, float, Vec3f) { ++w.aggregates; }
+        void exact(uint32_t, uint32_t lo, uint32_t hi, const float *) { w.exact += hi - lo; }
     } visit;
-    traverse(p, n, view, scratch, visit);
+    const Receiver r{p, n, view};
+    traverse(&r, 1, scratch.stack, visit);
     return visit.w;
 }
 

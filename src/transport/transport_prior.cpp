@@ -287,28 +287,47 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
     std::atomic<size_t> kept_bytes{0};
     // One pass: every node's row against the values x; the first also keeps each row's sum and
     // closure and records the rows.
+    // Nodes walk the tree in groups of consecutive places (a leaf's patch: PriorTree::record_group),
+    // each with the row it would have alone.
+    constexpr int G = PriorTree::k_group;
+    const std::vector<uint32_t> &place = tree.place_nodes();
     auto pass = [&](const std::vector<Vec3f> &x, bool first, std::vector<Vec3f> &gathered) {
         const PriorTree::Sums sums = tree.sums(x);
-        parallel_for(0, int64_t(m), 16, [&](int64_t b, int64_t e) {
+        parallel_for(0, int64_t((m + G - 1) / G), 2, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
-            BlendedView bv;
-            for (int64_t i = b; i < e; ++i) {
-                const size_t j = size_t(i);
-                double num[3];
-                if (kept[j]) {
-                    tree.apply(rows[j], sums, num);
-                } else {
-                    const float c = bv.set(vis, position[j], normal[j], vis.empty() ? nullptr : &vis.node_cluster[j]);
-                    if (first) closure[j] = c;
-                    tree.record(position[j], normal[j], bv.view, scratch.row, scratch);
-                    tree.apply(scratch.row, sums, num);
-                    if (first) {
-                        den[j] = scratch.row.den;
-                        const size_t bytes = scratch.row.bytes();
-                        if (kept_bytes.fetch_add(bytes) + bytes <= row_budget) rows[j] = scratch.row, kept[j] = 1;
+            BlendedView bv[G];
+            PriorTree::Receiver rc[G];
+            size_t walk[G];
+            for (int64_t g = b; g < e; ++g) {
+                const size_t lo = size_t(g) * G, hi = std::min(m, lo + G);
+                int count = 0;   // the group's nodes whose rows are not kept: they walk
+                for (size_t k = lo; k < hi; ++k) {
+                    const size_t j = place[k];
+                    double num[3];
+                    if (kept[j]) {
+                        tree.apply(rows[j], sums, num);
+                        for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
+                        continue;
                     }
+                    const float c = bv[count].set(vis, position[j], normal[j], vis.empty() ? nullptr : &vis.node_cluster[j]);
+                    if (first) closure[j] = c;
+                    rc[count] = {position[j], normal[j], bv[count].view};
+                    walk[count++] = j;
                 }
-                for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
+                if (count == 0) continue;
+                tree.record_group(rc, count, scratch.rows, scratch);
+                for (int l = 0; l < count; ++l) {
+                    const size_t j = walk[l];
+                    const PriorTree::Row &row = scratch.rows[l];
+                    double num[3];
+                    tree.apply(row, sums, num);
+                    if (first) {
+                        den[j] = row.den;
+                        const size_t bytes = row.bytes();
+                        if (kept_bytes.fetch_add(bytes) + bytes <= row_budget) rows[j] = row, kept[j] = 1;
+                    }
+                    for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
+                }
             }
         });
     };
@@ -441,17 +460,32 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
         std::shared_ptr<const PriorTree::Sums> held = prior.tree_sums;
         if (!held) held = std::make_shared<const PriorTree::Sums>(prior.tree->sums(prior.exitance));
         const PriorTree::Sums &sums = *held;
-        parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
+        // Neighbours that face alike walk the tree together (PriorTree::record_group): each
+        // receiver's row is what it would be alone, so the order changes no bit of the answer.
+        constexpr int G = PriorTree::k_group;
+        const std::vector<uint32_t> order = PriorTree::group_order(position, normal, stride, n);
+        const int64_t groups = int64_t((n + G - 1) / G);
+        parallel_for(0, groups, 8, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
-            BlendedView bv;
-            for (int64_t q = b; q < e; ++q) {
-                const float *pp = position + size_t(q) * stride, *pn = normal + size_t(q) * stride;
-                const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
-                const float closure = bv.set(vis, p, nq, nullptr);
-                double den, num[3];
-                prior.tree->row(p, nq, bv.view, &sums, den, num, scratch);
-                float *o = out + size_t(q) * 3;
-                for (int k = 0; k < 3; ++k) o[k] = den > 0 ? float(double(closure) * num[k] / den) : 0.f;
+            BlendedView bv[G];
+            PriorTree::Receiver rc[G];
+            float closure[G];
+            for (int64_t g = b; g < e; ++g) {
+                const size_t first = size_t(g) * G;
+                const int count = int(std::min<size_t>(G, n - first));
+                for (int l = 0; l < count; ++l) {
+                    const size_t q = order[first + size_t(l)];
+                    const float *pp = position + q * stride, *pn = normal + q * stride;
+                    const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
+                    closure[l] = bv[l].set(vis, p, nq, nullptr);
+                    rc[l] = {p, nq, bv[l].view};
+                }
+                double den[G], num[G][3];
+                prior.tree->gather_group(rc, count, sums, den, num, scratch);
+                for (int l = 0; l < count; ++l) {
+                    float *o = out + size_t(order[first + size_t(l)]) * 3;
+                    for (int k = 0; k < 3; ++k) o[k] = den[l] > 0 ? float(double(closure[l]) * num[l][k] / den[l]) : 0.f;
+                }
             }
         });
         return;

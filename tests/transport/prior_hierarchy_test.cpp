@@ -3,6 +3,7 @@
 // work, the furnace exact at any θ; deterministic at any thread count; bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 
@@ -60,6 +61,11 @@ double relative_rms(const std::vector<float> &a, const std::vector<float> &b) {
     return std::sqrt(num / den);
 }
 
+const PriorTree::Receiver *rc_none() {
+    static const PriorTree::Receiver none[PriorTree::k_group + 1] = {};
+    return none;
+}
+
 std::vector<float> flat(const std::vector<Vec3f> &v) {
     std::vector<float> out;
     for (const Vec3f &x : v) out.insert(out.end(), {x.x, x.y, x.z});
@@ -108,6 +114,77 @@ TEST(PriorHierarchy, ApproximatesTheDenseRowsWithLessWork) {
     const PriorTree::Work work = tree.tree->count(p, n, {ids, w, K}, scratch);
     EXPECT_GT(work.aggregates, 0u);
     EXPECT_LT(double(work.aggregates + work.exact), 0.1 * double(pts.p.size())) << work.aggregates << " + " << work.exact;   // measured 4.4 %
+}
+
+// Receivers that walk the tree together (record_group, gather_group) get the rows each gets alone,
+// bit for bit: neighbours on one wall, receivers far apart and facing every way, a group of views
+// that repeat (shared weights) and partial groups. The gather's one-pass sum equals record + apply.
+TEST(PriorHierarchy, AGroupWalksAsEachReceiverAlone) {
+    const Points pts = two_rooms(16);
+    const float area = 9.f / 256.f;
+    const TransportPrior t = solve(pts, area, 0.5f, true, true, 4);
+    ASSERT_TRUE(t.tree);
+    const PriorTree &tree = *t.tree;
+    const ClusterVisibility &vis = t.visibility;
+    std::vector<Vec3f> qp, qn;
+    receivers(pts, qp, qn);
+    // Consecutive receivers (neighbours), the same shuffled (far apart), and one receiver repeated.
+    std::vector<size_t> order(qp.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::vector<size_t> shuffled = order;
+    for (size_t i = 0; i < shuffled.size(); ++i) std::swap(shuffled[i], shuffled[(i * 7919 + 13) % shuffled.size()]);
+    std::vector<size_t> repeated(11, qp.size() / 3);
+    repeated[4] = 0;
+    const PriorTree::Sums sums = tree.sums(t.exitance);
+    auto same_row = [](const PriorTree::Row &a, const PriorTree::Row &b) {
+        if (a.den != b.den || a.aggregates.size() != b.aggregates.size() || a.exact.size() != b.exact.size()) return false;
+        for (size_t i = 0; i < a.aggregates.size(); ++i) {
+            const auto &x = a.aggregates[i], &y = b.aggregates[i];
+            if (x.node != y.node || !(x.along == y.along) || !(x.grad == y.grad)) return false;
+        }
+        for (size_t i = 0; i < a.exact.size(); ++i)
+            if (a.exact[i].place != b.exact[i].place || a.exact[i].coef != b.exact[i].coef) return false;
+        return true;
+    };
+    PriorTree::Scratch scratch, alone;
+    size_t rows = 0, aggregates = 0;
+    for (const std::vector<size_t> *list : {&order, &shuffled, &repeated}) {
+        for (size_t first = 0; first < list->size(); first += PriorTree::k_group) {
+            const int count = int(std::min<size_t>(PriorTree::k_group, list->size() - first));
+            uint32_t ids[PriorTree::k_group][ClusterVisibility::k_candidates];
+            float w[PriorTree::k_group][ClusterVisibility::k_candidates];
+            PriorTree::Receiver rc[PriorTree::k_group];
+            for (int l = 0; l < count; ++l) {
+                const size_t q = (*list)[first + size_t(l)];
+                const int K = vis.receiver_clusters(qp[q], qn[q], ids[l], w[l]);
+                rc[l] = {qp[q], qn[q], {ids[l], w[l], K}};
+            }
+            tree.record_group(rc, count, scratch.rows, scratch);
+            double den[PriorTree::k_group], num[PriorTree::k_group][3];
+            tree.gather_group(rc, count, sums, den, num, scratch);
+            for (int l = 0; l < count; ++l) {
+                tree.record(rc[l].p, rc[l].n, rc[l].view, alone.row, alone);
+                EXPECT_TRUE(same_row(scratch.rows[l], alone.row)) << "receiver " << (*list)[first + size_t(l)] << " lane " << l;
+                double applied[3];
+                tree.apply(alone.row, sums, applied);
+                EXPECT_EQ(den[l], alone.row.den);
+                for (int c = 0; c < 3; ++c) EXPECT_EQ(num[l][c], applied[c]);
+                ++rows, aggregates += alone.row.aggregates.size();
+            }
+        }
+    }
+    EXPECT_GT(aggregates, rows);   // the rows do use aggregates (θ 0.5), not only exact nodes
+    // The gather's order is a permutation that puts receivers facing one way together.
+    std::vector<float> pos, nrm;
+    for (size_t i = 0; i < qp.size(); ++i) pos.insert(pos.end(), {qp[i].x, qp[i].y, qp[i].z}), nrm.insert(nrm.end(), {qn[i].x, qn[i].y, qn[i].z});
+    const std::vector<uint32_t> go = PriorTree::group_order(pos.data(), nrm.data(), 3, qp.size());
+    std::vector<uint32_t> sorted = go;
+    std::sort(sorted.begin(), sorted.end());
+    for (size_t i = 0; i < sorted.size(); ++i) ASSERT_EQ(sorted[i], uint32_t(i));
+    size_t changes = 0;
+    for (size_t i = 1; i < go.size(); ++i) changes += !(qn[go[i]] == qn[go[i - 1]]);
+    EXPECT_EQ(changes, 5u);   // six facings: one run each
+    EXPECT_THROW(tree.record_group(rc_none(), PriorTree::k_group + 1, scratch.rows, scratch), Error);
 }
 
 // A closed box of uniform albedo and emission: every value is the same, so a row's aggregates give

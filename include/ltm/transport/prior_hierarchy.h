@@ -40,6 +40,12 @@
 // adds exactly 0 and is skipped. Otherwise its children are
 // visited, and a leaf's nodes are summed exactly, near field included. θ = 0 never aggregates:
 // every node is summed exactly, as in the dense row.
+//
+// Up to k_group = 8 receivers walk the tree together (record_group, gather_group): each makes its
+// own decisions, its bounds computed beside the others' in SIMD lanes, and the walk's node fetches
+// and stack are shared while any of them descends. Every receiver's row is the one it gets alone,
+// bit for bit; what the group saves depends on how alike its receivers are, so the solve groups
+// consecutive places (a leaf's patch) and the gather its queries by facing and a Morton curve.
 #pragma once
 
 #include <cstdint>
@@ -83,11 +89,6 @@ public:
         const float *w = nullptr;
         int K = 0;
     };
-    /// One receiver's row: den = Σ_j v_j t_j and num_c = Σ_j v_j t_j x_jc over the nodes it sees
-    /// (v_j = Σ_k w_k V(ids_k, cluster(j)), as the dense rows), with the far ones through aggregates
-    /// (header). `x` null: den alone. `scratch` holds the traversal's stack between calls (one per
-    /// thread). Deterministic. O(K) per visited tree node for the visibility (tables of what each
-    /// cluster sees of every subtree above the clusters), nothing per cluster.
     /// A receiver's row through the tree, recorded once and applied to any values (the solve's
     /// bounces reuse it): its aggregates' coefficients, its exactly summed nodes' terms, and den.
     struct Row {
@@ -106,13 +107,50 @@ public:
         void clear() { aggregates.clear(), exact.clear(), den = 0; }
         size_t bytes() const;
     };
-    struct Scratch {
-        std::vector<std::pair<uint32_t, float>> stack;
-        Row row;
+    /// Receivers that walk the tree together (record_group): at most k_group, best neighbours that
+    /// face alike, so that one walk serves them all.
+    static constexpr int k_group = 8;
+    struct Receiver {
+        Vec3f p, n;
+        View view;
     };
+    /// One stack entry of a walk: a tree node, the receivers still descending (bit l: receiver l)
+    /// and each one's weight for it (< 0: not known yet).
+    struct Entry {
+        uint32_t node = 0, mask = 0;
+        float w[k_group];
+    };
+    /// What a walk reuses between calls (one per thread): its stack and rows to record into.
+    struct Scratch {
+        std::vector<Entry> stack;
+        Row row;
+        Row rows[k_group];
+    };
+    /// One receiver's row: den = Σ_j v_j t_j and num_c = Σ_j v_j t_j x_jc over the nodes it sees
+    /// (v_j = Σ_k w_k V(ids_k, cluster(j)), as the dense rows), with the far ones through aggregates
+    /// (header). `x` null: den alone. `scratch` holds the traversal's stack between calls (one per
+    /// thread). Deterministic. O(K) per visited tree node for the visibility (tables of what each
+    /// cluster sees of every subtree above the clusters), nothing per cluster.
     void row(Vec3f p, Vec3f n, const View &view, const Sums *x, double &den, double num[3], Scratch &scratch) const;
     /// row() in two steps: the row's terms (den included), then num_c = Σ terms · x for any values.
     void record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &scratch) const;
+    /// record() for count ≤ k_group receivers in one walk of the tree: rows[l] is receiver l's row,
+    /// bit for bit what record() gives it alone. Each tree node's bounds are computed for all of
+    /// them at once (lane by lane, vectorised) and its stack entry, push and pop are shared; a
+    /// receiver leaves the walk where its own criteria skip or aggregate a subtree, so its row holds
+    /// the same terms in the same order. The gain grows with how alike the receivers are: a tile of
+    /// pixels on one wall descends the same path; receivers far apart cost what they cost alone.
+    void record_group(const Receiver *receivers, int count, Row *rows, Scratch &scratch) const;
+    /// record_group() and apply() in one: per receiver l its den[l] and num[l][c] against the values
+    /// x, bit for bit what they give, without keeping the rows (the gather's path: each row is used once).
+    void gather_group(const Receiver *receivers, int count, const Sums &x, double *den, double (*num)[3], Scratch &scratch) const;
+    /// An order of n receivers (position and normal rows of `stride` floats) in which groups of
+    /// k_group consecutive ones walk well together: by the axis they face most, then along a Morton
+    /// curve through their bounding box (10 bits an axis; ties by index). Deterministic. O(n log n).
+    static std::vector<uint32_t> group_order(const float *position, const float *normal, size_t stride, size_t n);
+    /// The tree's node at each place ([m]): consecutive places are neighbours, a leaf's ≤ 8 of them
+    /// one tight patch of one facing, so groups of k_group consecutive places walk well together.
+    const std::vector<uint32_t> &place_nodes() const { return m_place_node; }
     void apply(const Row &row, const Sums &x, double num[3]) const;
 
     /// Counters of the last rows (a sampling of the work, not thread-safe: for benches and tests).
@@ -140,7 +178,9 @@ private:
         int32_t cluster = -1;          ///< the one cluster under it; −1 above the clusters
         int32_t upper = -1;            ///< its index in m_upper (a cluster's root or above); −1 below
     };
-    template <class Visit> void traverse(Vec3f p, Vec3f n, const View &view, Scratch &scratch, Visit &&visit) const;
+    template <class Sink> struct Terms;
+    /// The walk of count ≤ k_group receivers (one alone: count 1) that visit's callbacks record.
+    template <class Visit> void traverse(const Receiver *receivers, int count, std::vector<Entry> &stack, Visit &&visit) const;
     int32_t build(uint32_t lo, uint32_t hi, std::vector<uint32_t> &items, bool clusters, const std::vector<Vec3f> &pos,
                   const std::vector<Vec3f> &nrm);
     void summarise(Node &t) const;
