@@ -331,10 +331,15 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
             }
         });
     };
+    const auto t0 = std::chrono::steady_clock::now();
+    double first_s = 0;
     for (int k = 0; k < bounces; ++k) {
         pass(bk, k == 0, next);
         for (size_t j = 0; j < m; ++j) bk[j] = albedo[j] * next[j], ex[j] += bk[j];
+        if (k == 0) first_s = seconds_since(t0);
     }
+    log_debug("prior tree: ", m, " nodes; first bounce (walks, rows recorded) ", first_s, " s, later bounces ", seconds_since(t0) - first_s,
+              " s, ", kept_bytes.load() >> 20, " MB of rows");
     mean_e = Vec3f(0.f);
     if (want_mean) {
         pass(ex, false, at_node);
@@ -362,7 +367,11 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     out.position = position, out.normal = normal, out.area = node_area, out.patches = patches;
     out.visibility = std::move(visibility);
     const ClusterVisibility &vis = out.visibility;
-    if (theta > 0.f) out.tree = std::make_shared<const PriorTree>(position, normal, vis, node_area, patches, theta);
+    if (theta > 0.f) {
+        const auto t0 = std::chrono::steady_clock::now();
+        out.tree = std::make_shared<const PriorTree>(position, normal, vis, node_area, patches, theta);
+        log_debug("prior tree: built over ", m, " nodes in ", seconds_since(t0), " s (", out.tree->bytes() >> 20, " MB)");
+    }
     out.exitance.assign(m, Vec3f(0.f));
     if (bounces == 0) return out;
     const bool balanced = !vis.empty() && balance != PriorBalance::none;
