@@ -16,9 +16,20 @@ bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest
     const Frame frame(n);
     const int nu = std::max(1, int(std::sqrt(float(cfg.n_rays) / 2.f)));
     const int nv = std::max(1, cfg.n_rays / nu);
+    // The verdict, enclosed = (air and every ray misses) or back ≥ fraction · rays, is often settled
+    // long before the last ray: a lit point is open once a few rays have hit something and too many
+    // are not back faces (4 of 32 at 0.9). Stopping there gives the same verdict, with a fraction of
+    // the rays.
+    const int rays = nu * nv;
+    const float needed = cfg.back_face_fraction * float(rays);
     int back = 0, total = 0, misses = 0;
     for (int i = 0; i < nu; ++i)
         for (int j = 0; j < nv; ++j) {
+            if (total > 0) {
+                if (float(back) >= needed) return true;
+                const bool some_hit = misses < total || !cfg.air;   // the all-misses rule is out
+                if (some_hit && float(back + rays - total) < needed) return false;
+            }
             const Vec2f u{(float(i) + 0.5f) / float(nu), (float(j) + 0.5f) / float(nv)};
             const Vec3f d = frame.to_world(sample_cosine_hemisphere(u));
             const Vec3f o = offset_ray_origin(p, n, d, cfg.offset_length);

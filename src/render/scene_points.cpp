@@ -2,9 +2,12 @@
 #include "ltm/render/scene_points.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "ltm/core/error.h"
+#include "ltm/core/log.h"
+#include "ltm/core/progress.h"
 #include "ltm/core/rng.h"
 
 #include "ltm/transport/power_balance.h"
@@ -67,18 +70,24 @@ void add_emitter_floor(const Scene &scene, std::vector<SurfaceSample> &samples, 
 
 ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed,
                                 float buried_spacings) {
+    const auto t0 = std::chrono::steady_clock::now();
     SampleFilter filter;
     if (exclude_enclosed) {
         EnclosureTest cfg;
         if (n_points > 0) cfg.buried_distance = buried_spacings * float(std::sqrt(accel.scene().total_area() / double(n_points)));
         filter = enclosed_filter(accel, cfg);
     }
+    const double filter_s = seconds_since(t0);
     SampleStats stats;
     std::vector<SurfaceSample> samples = sample_surface(accel.scene(), n_points, seed, SampleStream::scene_points, filter, &stats);
+    const double sample_s = seconds_since(t0) - filter_s;
     add_emitter_floor(accel.scene(), samples, seed, filter, stats.pass_fraction());
+    const double floor_s = seconds_since(t0) - filter_s - sample_s;
     ScenePoints out;
     out.points = to_scene_points(samples);
     out.emission_scale = scene_emission_scale(accel.scene(), stats.pass_fraction());
+    log_debug("scene points: ", samples.size(), " in ", seconds_since(t0), " s: enclosure filter ", filter_s, " s, sampling ", sample_s,
+              " s (", stats.candidates, " candidates, ", stats.passed, " passed), emitter floor ", floor_s, " s");
     return out;
 }
 
