@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ltm/core/error.h"
+
 namespace ltm {
 
 ReachableAir::ReachableAir(const Scene &scene, int cells_per_extent) {
@@ -40,11 +42,20 @@ ReachableAir::ReachableAir(const Scene &scene, int cells_per_extent) {
     for (const Camera &cam : scene.cameras) seed(cam.eye, Vec3f(0.f), queue);
     m_seeds = int64_t(queue.size());
 
-    // Flood (6-connected) through free cells.
+    // Flood (6-connected) through free cells, breadth first. The queue holds each cell's (i, j, k)
+    // packed 21 bits an axis, so neither the grid bounds nor the index need a division.
+    constexpr int bits = 21;
+    constexpr uint64_t mask = (uint64_t(1) << bits) - 1;
+    if (std::max({m_n[0], m_n[1], m_n[2]}) > int(mask)) LTM_THROW("reachable air: a grid of ", m_n[0], "x", m_n[1], "x", m_n[2], " cells");
+    std::vector<uint64_t> front;
+    front.reserve(m_state.size() - size_t(m_blocked));   // at most every free cell: no regrowth
+    for (int64_t c : queue)
+        front.push_back(uint64_t(c % m_n[0]) | uint64_t((c / m_n[0]) % m_n[1]) << bits | uint64_t(c / (int64_t(m_n[0]) * m_n[1])) << 2 * bits);
     const int64_t stride[3] = {1, m_n[0], int64_t(m_n[0]) * m_n[1]};
-    for (size_t head = 0; head < queue.size(); ++head) {
-        const int64_t c = queue[head];
-        const int64_t ijk[3] = {c % m_n[0], (c / m_n[0]) % m_n[1], c / stride[2]};
+    for (size_t head = 0; head < front.size(); ++head) {
+        const uint64_t packed = front[head];
+        const int64_t ijk[3] = {int64_t(packed & mask), int64_t(packed >> bits & mask), int64_t(packed >> 2 * bits)};
+        const int64_t c = ijk[0] + stride[1] * ijk[1] + stride[2] * ijk[2];
         for (int a = 0; a < 3; ++a)
             for (int s : {-1, 1}) {
                 const int64_t q = ijk[a] + s;
@@ -52,10 +63,10 @@ ReachableAir::ReachableAir(const Scene &scene, int cells_per_extent) {
                 const int64_t nb = c + s * stride[a];
                 if (m_state[size_t(nb)] != k_free) continue;
                 m_state[size_t(nb)] = k_reached;
-                queue.push_back(nb);
+                front.push_back(s < 0 ? packed - (uint64_t(1) << a * bits) : packed + (uint64_t(1) << a * bits));
             }
     }
-    m_reached = int64_t(queue.size());
+    m_reached = int64_t(front.size());
 }
 
 bool ReachableAir::cell_of(Vec3f p, int &i, int &j, int &k) const {
