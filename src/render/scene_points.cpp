@@ -86,8 +86,8 @@ ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint
     ScenePoints out;
     out.points = to_scene_points(samples);
     out.emission_scale = scene_emission_scale(accel.scene(), stats.pass_fraction());
-    log_debug("scene points: ", samples.size(), " in ", seconds_since(t0), " s: enclosure filter ", filter_s, " s, sampling ", sample_s,
-              " s (", stats.candidates, " candidates, ", stats.passed, " passed), emitter floor ", floor_s, " s");
+    log_debug("scene points: ", samples.size(), " in ", seconds_since(t0), " s: reachable air ", filter_s, " s, sampling with the enclosure test ",
+              sample_s, " s (", stats.candidates, " candidates, ", stats.passed, " passed), emitter floor ", floor_s, " s");
     return out;
 }
 

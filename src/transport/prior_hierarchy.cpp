@@ -222,8 +222,8 @@ constexpr int k_lanes = PriorTree::k_group;
 typedef float f8 __attribute__((vector_size(4 * k_lanes)));
 typedef int32_t m8 __attribute__((vector_size(4 * k_lanes)));
 static_assert(sizeof(f8) == sizeof(float) * k_lanes);
-// Vectors wider than the target's registers are passed in memory; these helpers are internal and
-// inlined, so the ABI note about it does not apply.
+// GCC notes that a vector wider than the target's registers changes how it is passed; these helpers
+// have internal linkage (this namespace), so no other translation unit sees that ABI.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 inline f8 abs8(f8 v) { return (f8)((m8)v & 0x7fffffff); }
@@ -279,7 +279,8 @@ void PriorTree::traverse(const Receiver *receivers, int count, std::vector<Entry
     int same[k_group];
     for (int l = 0; l < k_group; ++l) {
         same[l] = l;
-        const View &a = receivers[std::min(l, count - 1)].view;
+        if (l >= count) continue;   // never read
+        const View &a = receivers[l].view;
         for (int j = 0; j < l && same[l] == l; ++j) {
             const View &b = receivers[j].view;
             if (a.K != b.K) continue;
@@ -494,6 +495,7 @@ void PriorTree::record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &sc
 
 void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Scratch &scratch) const {
     if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
+    if (count == 0) return;
     for (int l = 0; l < count; ++l) rows[l].clear();
     const Lanes q(receivers, count);
     RowSink sink{rows};
@@ -504,6 +506,7 @@ void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Sc
 void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x, double *den, double (*num)[3],
                              Scratch &scratch) const {
     if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
+    if (count == 0) return;
     const Lanes q(receivers, count);
     SumSink sink{x, {}, {}, {}};
     Terms<SumSink> terms{*this, q, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};

@@ -287,13 +287,14 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
     std::atomic<size_t> kept_bytes{0};
     // One pass: every node's row against the values x; the first also keeps each row's sum and
     // closure and records the rows.
-    // Nodes walk the tree in groups of consecutive places (a leaf's patch: PriorTree::record_group),
-    // each with the row it would have alone.
+    // Nodes walk the tree in groups of k_group consecutive places (neighbours facing alike, mostly
+    // one leaf's: PriorTree::record_group), each with the row it would have alone. A chunk of 16
+    // groups reuses one scratch (its rows' capacity).
     constexpr int G = PriorTree::k_group;
     const std::vector<uint32_t> &place = tree.place_nodes();
     auto pass = [&](const std::vector<Vec3f> &x, bool first, std::vector<Vec3f> &gathered) {
         const PriorTree::Sums sums = tree.sums(x);
-        parallel_for(0, int64_t((m + G - 1) / G), 2, [&](int64_t b, int64_t e) {
+        parallel_for(0, int64_t((m + G - 1) / G), 16, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
             BlendedView bv[G];
             PriorTree::Receiver rc[G];
@@ -474,7 +475,7 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
         constexpr int G = PriorTree::k_group;
         const std::vector<uint32_t> order = PriorTree::group_order(position, normal, stride, n);
         const int64_t groups = int64_t((n + G - 1) / G);
-        parallel_for(0, groups, 8, [&](int64_t b, int64_t e) {
+        parallel_for(0, groups, 32, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
             BlendedView bv[G];
             PriorTree::Receiver rc[G];

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <tuple>
 
 #include "ltm/core/error.h"
@@ -61,11 +63,6 @@ double relative_rms(const std::vector<float> &a, const std::vector<float> &b) {
     return std::sqrt(num / den);
 }
 
-const PriorTree::Receiver *rc_none() {
-    static const PriorTree::Receiver none[PriorTree::k_group + 1] = {};
-    return none;
-}
-
 std::vector<float> flat(const std::vector<Vec3f> &v) {
     std::vector<float> out;
     for (const Vec3f &x : v) out.insert(out.end(), {x.x, x.y, x.z});
@@ -117,63 +114,91 @@ TEST(PriorHierarchy, ApproximatesTheDenseRowsWithLessWork) {
 }
 
 // Receivers that walk the tree together (record_group, gather_group) get the rows each gets alone,
-// bit for bit: neighbours on one wall, receivers far apart and facing every way, a group of views
-// that repeat (shared weights) and partial groups. The gather's one-pass sum equals record + apply.
+// bit for bit (memcmp of every value): neighbours on one wall, receivers far apart and facing every
+// way, views that repeat, the solve's own-cluster views over consecutive places (lanes with equal
+// views at different points: one lane's weights serve another that a subtree keeps descending),
+// without occlusion (K = 0), partial groups and an empty one. The gather's one-pass sum equals
+// record + apply. (record() is the walk of one; what this holds is that lanes never mix.)
 TEST(PriorHierarchy, AGroupWalksAsEachReceiverAlone) {
     const Points pts = two_rooms(16);
     const float area = 9.f / 256.f;
-    const TransportPrior t = solve(pts, area, 0.5f, true, true, 4);
-    ASSERT_TRUE(t.tree);
-    const PriorTree &tree = *t.tree;
-    const ClusterVisibility &vis = t.visibility;
-    std::vector<Vec3f> qp, qn;
-    receivers(pts, qp, qn);
-    // Consecutive receivers (neighbours), the same shuffled (far apart), and one receiver repeated.
-    std::vector<size_t> order(qp.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::vector<size_t> shuffled = order;
-    for (size_t i = 0; i < shuffled.size(); ++i) std::swap(shuffled[i], shuffled[(i * 7919 + 13) % shuffled.size()]);
-    std::vector<size_t> repeated(11, qp.size() / 3);
-    repeated[4] = 0;
-    const PriorTree::Sums sums = tree.sums(t.exitance);
-    auto same_row = [](const PriorTree::Row &a, const PriorTree::Row &b) {
-        if (a.den != b.den || a.aggregates.size() != b.aggregates.size() || a.exact.size() != b.exact.size()) return false;
+    auto bits_equal = [](const auto &a, const auto &b) { return std::memcmp(&a, &b, sizeof(a)) == 0; };
+    auto same_row = [&](const PriorTree::Row &a, const PriorTree::Row &b) {
+        if (!bits_equal(a.den, b.den) || a.aggregates.size() != b.aggregates.size() || a.exact.size() != b.exact.size()) return false;
         for (size_t i = 0; i < a.aggregates.size(); ++i) {
             const auto &x = a.aggregates[i], &y = b.aggregates[i];
-            if (x.node != y.node || !(x.along == y.along) || !(x.grad == y.grad)) return false;
+            if (x.node != y.node || !bits_equal(x.along, y.along) || !bits_equal(x.grad, y.grad)) return false;
         }
         for (size_t i = 0; i < a.exact.size(); ++i)
-            if (a.exact[i].place != b.exact[i].place || a.exact[i].coef != b.exact[i].coef) return false;
+            if (a.exact[i].place != b.exact[i].place || !bits_equal(a.exact[i].coef, b.exact[i].coef)) return false;
         return true;
     };
-    PriorTree::Scratch scratch, alone;
-    size_t rows = 0, aggregates = 0;
-    for (const std::vector<size_t> *list : {&order, &shuffled, &repeated}) {
-        for (size_t first = 0; first < list->size(); first += PriorTree::k_group) {
-            const int count = int(std::min<size_t>(PriorTree::k_group, list->size() - first));
-            uint32_t ids[PriorTree::k_group][ClusterVisibility::k_candidates];
-            float w[PriorTree::k_group][ClusterVisibility::k_candidates];
-            PriorTree::Receiver rc[PriorTree::k_group];
-            for (int l = 0; l < count; ++l) {
-                const size_t q = (*list)[first + size_t(l)];
-                const int K = vis.receiver_clusters(qp[q], qn[q], ids[l], w[l]);
-                rc[l] = {qp[q], qn[q], {ids[l], w[l], K}};
-            }
+    // Receivers with their own views' storage; walks them in groups of k_group as listed.
+    struct Receivers {
+        std::vector<PriorTree::Receiver> rc;
+        std::vector<std::array<uint32_t, ClusterVisibility::k_candidates>> ids;
+        std::vector<std::array<float, ClusterVisibility::k_candidates>> w;
+    };
+    size_t rows = 0, aggregates = 0, copies = 0;
+    auto check = [&](const PriorTree &tree, const PriorTree::Sums &sums, Receivers r, const char *what) {
+        for (size_t i = 0; i < r.rc.size(); ++i) r.rc[i].view.ids = r.ids[i].data(), r.rc[i].view.w = r.w[i].data();
+        PriorTree::Scratch scratch, alone;
+        for (size_t first = 0; first < r.rc.size(); first += PriorTree::k_group) {
+            const int count = int(std::min<size_t>(PriorTree::k_group, r.rc.size() - first));
+            const PriorTree::Receiver *rc = &r.rc[first];
             tree.record_group(rc, count, scratch.rows, scratch);
             double den[PriorTree::k_group], num[PriorTree::k_group][3];
             tree.gather_group(rc, count, sums, den, num, scratch);
             for (int l = 0; l < count; ++l) {
                 tree.record(rc[l].p, rc[l].n, rc[l].view, alone.row, alone);
-                EXPECT_TRUE(same_row(scratch.rows[l], alone.row)) << "receiver " << (*list)[first + size_t(l)] << " lane " << l;
+                EXPECT_TRUE(same_row(scratch.rows[l], alone.row)) << what << ": receiver " << first + size_t(l) << " lane " << l;
                 double applied[3];
                 tree.apply(alone.row, sums, applied);
-                EXPECT_EQ(den[l], alone.row.den);
-                for (int c = 0; c < 3; ++c) EXPECT_EQ(num[l][c], applied[c]);
+                EXPECT_TRUE(bits_equal(den[l], alone.row.den)) << what;
+                for (int c = 0; c < 3; ++c) EXPECT_TRUE(bits_equal(num[l][c], applied[c])) << what << " channel " << c;
                 ++rows, aggregates += alone.row.aggregates.size();
+                for (int j = 0; j < l; ++j)
+                    copies += rc[j].view.K == rc[l].view.K && rc[l].view.K > 0 && r.ids[first + size_t(j)] == r.ids[first + size_t(l)] &&
+                              r.w[first + size_t(j)] == r.w[first + size_t(l)] && !(rc[j].p == rc[l].p);
             }
         }
+    };
+    std::vector<Vec3f> qp, qn;
+    receivers(pts, qp, qn);
+    for (const bool occlusion : {true, false}) {
+        const TransportPrior t = solve(pts, area, 0.5f, occlusion, true, 4);
+        ASSERT_TRUE(t.tree);
+        const PriorTree &tree = *t.tree;
+        const ClusterVisibility &vis = t.visibility;
+        const PriorTree::Sums sums = tree.sums(t.exitance);
+        // As listed (neighbours), shuffled (far apart), one receiver repeated around another.
+        std::vector<size_t> order(qp.size()), shuffled(qp.size()), repeated(11, qp.size() / 3);
+        for (size_t i = 0; i < order.size(); ++i) order[i] = shuffled[i] = i;
+        for (size_t i = 0; i < shuffled.size(); ++i) std::swap(shuffled[i], shuffled[(i * 7919 + 13) % shuffled.size()]);
+        repeated[4] = 0;
+        for (const std::vector<size_t> *list : {&order, &shuffled, &repeated}) {
+            Receivers r;
+            for (size_t q : *list) {
+                r.ids.emplace_back(), r.w.emplace_back();
+                const int K = occlusion ? vis.receiver_clusters(qp[q], qn[q], r.ids.back().data(), r.w.back().data()) : 0;
+                r.rc.push_back({qp[q], qn[q], {nullptr, nullptr, K}});
+            }
+            check(tree, sums, r, occlusion ? "blended views" : "no occlusion");
+        }
+        if (!occlusion) continue;
+        // The solve's receivers: the nodes in place order, each seeing from its own cluster (K 1).
+        Receivers r;
+        for (uint32_t j : tree.place_nodes()) {
+            r.ids.push_back({vis.node_cluster[j]}), r.w.push_back({1.f});
+            r.rc.push_back({pts.p[j], pts.n[j], {nullptr, nullptr, 1}});
+        }
+        check(tree, sums, r, "own clusters");
+        PriorTree::Scratch scratch;
+        tree.record_group(r.rc.data(), 0, scratch.rows, scratch);   // an empty group: nothing to do
+        EXPECT_THROW(tree.record_group(r.rc.data(), PriorTree::k_group + 1, scratch.rows, scratch), Error);
     }
     EXPECT_GT(aggregates, rows);   // the rows do use aggregates (θ 0.5), not only exact nodes
+    EXPECT_GT(copies, rows / 4);   // and lanes with equal views at different points were common
     // The gather's order is a permutation that puts receivers facing one way together.
     std::vector<float> pos, nrm;
     for (size_t i = 0; i < qp.size(); ++i) pos.insert(pos.end(), {qp[i].x, qp[i].y, qp[i].z}), nrm.insert(nrm.end(), {qn[i].x, qn[i].y, qn[i].z});
@@ -184,7 +209,6 @@ TEST(PriorHierarchy, AGroupWalksAsEachReceiverAlone) {
     size_t changes = 0;
     for (size_t i = 1; i < go.size(); ++i) changes += !(qn[go[i]] == qn[go[i - 1]]);
     EXPECT_EQ(changes, 5u);   // six facings: one run each
-    EXPECT_THROW(tree.record_group(rc_none(), PriorTree::k_group + 1, scratch.rows, scratch), Error);
 }
 
 // A closed box of uniform albedo and emission: every value is the same, so a row's aggregates give

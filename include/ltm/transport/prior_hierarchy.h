@@ -148,8 +148,8 @@ public:
     /// k_group consecutive ones walk well together: by the axis they face most, then along a Morton
     /// curve through their bounding box (10 bits an axis; ties by index). Deterministic. O(n log n).
     static std::vector<uint32_t> group_order(const float *position, const float *normal, size_t stride, size_t n);
-    /// The tree's node at each place ([m]): consecutive places are neighbours, a leaf's ≤ 8 of them
-    /// one tight patch of one facing, so groups of k_group consecutive places walk well together.
+    /// The tree's node at each place ([m]): consecutive places are neighbours (a leaf's ≤ 8 of them
+    /// one tight patch of one facing), so groups of k_group consecutive places walk well together.
     const std::vector<uint32_t> &place_nodes() const { return m_place_node; }
     void apply(const Row &row, const Sums &x, double num[3]) const;
 
