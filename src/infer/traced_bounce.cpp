@@ -6,6 +6,7 @@
 #include "ltm/core/rng.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/render/interaction.h"
+#include "ltm/transport/prior_hierarchy.h"
 
 namespace ltm {
 
@@ -44,10 +45,14 @@ std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &l
             }
         }
     });
+    // The hits in an order where neighbours facing alike follow each other (PriorTree::group_order):
+    // the decode goes in chunks, and the prior's gather walks its tree for neighbours together, so
+    // ordered hits share their walks (each hit's answer does not depend on its company).
+    const std::vector<uint32_t> order = PriorTree::group_order(query.data(), query.data() + 3, 9, n);
     std::vector<size_t> at;
     std::vector<float> q;
-    for (size_t i = 0; i < n; ++i)
-        if (diffuse_hit[i]) at.push_back(i), q.insert(q.end(), query.begin() + std::ptrdiff_t(i * 9), query.begin() + std::ptrdiff_t(i * 9 + 9));
+    for (uint32_t i : order)
+        if (diffuse_hit[i]) at.push_back(i), q.insert(q.end(), query.begin() + std::ptrdiff_t(size_t(i) * 9), query.begin() + std::ptrdiff_t(size_t(i) * 9 + 9));
     if (at.empty()) return radiance;
     const auto e = model->predict_irradiance(rows_tensor(q, 9), latents, 16384).contiguous();
     const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
