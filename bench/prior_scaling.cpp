@@ -9,17 +9,26 @@
 // (`/usr/bin/time -f %M`) for it.
 //   build/bench/prior_scaling SCENES M1,M2,... THETA1,THETA2,... [size=128] [clusters=1024]
 // SCENES: scene files, builtin:NAME or generated seeds as seed:N, comma-separated.
+// PRIOR_SCALING_NODE_INTERP=K also prints, per row, what a cheaper Ê⁺ at secondary hits would cost
+// in accuracy: the gather at the M nodes themselves, then each G-buffer query's E⁺ as the inverse-
+// distance mean of its K nearest nodes that face within 60° of it; its time and its relative RMS
+// difference to the query's own gather, beside the same difference between two point sets (seeds 0
+// and 1: the prior's own sampling noise, the scale the interpolation's error is to be read against).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
+#include "ltm/core/parallel.h"
 #include "ltm/core/startup.h"
 #include "ltm/eval/eval_setup.h"
+#include "ltm/points/point_grid.h"
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/scene_points.h"
@@ -28,6 +37,50 @@
 #include "scene_list.h"
 
 using namespace ltm;
+
+namespace {
+// √(Σ (a − b)²) / √(Σ b²) over every channel.
+double relative_rms(const std::vector<Vec3f> &a, const std::vector<Vec3f> &b) {
+    double num = 0, den = 0;
+    for (size_t q = 0; q < a.size(); ++q)
+        for (int c = 0; c < 3; ++c) {
+            const double x = a[q][c], y = b[q][c];
+            num += (x - y) * (x - y), den += y * y;
+        }
+    return std::sqrt(num / std::max(den, 1e-30));
+}
+
+// E⁺ at each query from the K nearest nodes facing within 60° of it, weights 1/(d² + (s/2)²).
+std::vector<Vec3f> interpolate_nodes(const TransportPrior &prior, const std::vector<Vec3f> &node_e, const GBuffer &gb, int K,
+                                     float spacing) {
+    const PointGrid grid(prior.position, spacing);
+    std::vector<Vec3f> out(gb.n_hits(), Vec3f(0.f));
+    parallel_for(0, int64_t(gb.n_hits()), 256, [&](int64_t b, int64_t e) {
+        std::vector<std::pair<float, uint32_t>> best;
+        for (int64_t q = b; q < e; ++q) {
+            const Vec3f p = gb.position[size_t(q)], n = gb.normal[size_t(q)];
+            best.clear();
+            auto kth = [&] { return int(best.size()) < K ? std::numeric_limits<float>::infinity() : best.back().first; };
+            grid.visit_nearest(p, [&](uint32_t j) {
+                if (dot(prior.normal[j], n) < 0.5f) return;
+                const Vec3f d = prior.position[j] - p;
+                const float d2 = dot(d, d);
+                if (int(best.size()) == K && !(d2 < best.back().first)) return;
+                best.insert(std::upper_bound(best.begin(), best.end(), std::make_pair(d2, j)), {d2, j});
+                if (int(best.size()) > K) best.pop_back();
+            }, kth);
+            double w = 0;
+            Vec3f acc(0.f);
+            for (const auto &[d2, j] : best) {
+                const float wj = 1.f / (d2 + 0.25f * spacing * spacing);
+                acc += node_e[j] * wj, w += wj;
+            }
+            out[size_t(q)] = w > 0 ? acc / float(w) : Vec3f(0.f);
+        }
+    });
+    return out;
+}
+}  // namespace
 
 int main(int argc, char **argv) {
     if (argc < 4) {
@@ -42,6 +95,8 @@ int main(int argc, char **argv) {
     for (const std::string &m : bench::split_commas(argv[2])) counts.push_back(std::atoll(m.c_str()));
     for (const std::string &t : bench::split_commas(argv[3])) thetas.push_back(std::stof(t));
     const int size = argc > 4 ? std::atoi(argv[4]) : 128, clusters = argc > 5 ? std::atoi(argv[5]) : 1024;
+    const char *interp_env = std::getenv("PRIOR_SCALING_NODE_INTERP");
+    const int interp_k = interp_env ? std::atoi(interp_env) : 0;
     std::printf("| scene | M | θ | clusters + visibility (s) | solve (s) | gather %d² (s) | visited / aggregates / exact per receiver | tree MB | E⁺ vs dense (rel. RMS) |\n"
                 "|---|---|---|---|---|---|---|---|---|\n",
                 size);
@@ -91,17 +146,30 @@ int main(int argc, char **argv) {
                     if (theta == 0.f) {
                         dense_e = e;
                     } else if (!dense_e.empty()) {
-                        double num = 0, den = 0;
-                        for (size_t q = 0; q < e.size(); ++q)
-                            for (int c = 0; c < 3; ++c) {
-                                const double a = e[q][c], b = dense_e[q][c];
-                                num += (a - b) * (a - b), den += b * b;
-                            }
-                        diff = std::to_string(std::sqrt(num / std::max(den, 1e-30))).substr(0, 6);
+                        diff = std::to_string(relative_rms(e, dense_e)).substr(0, 6);
                     }
                     std::printf("| %s | %lld | %.2f | %.2f (sample %.2f) | %.2f | %.2f | %.0f / %.0f / %.0f | %.1f | %s |\n", name.c_str(),
                                 (long long)M, double(theta), vis_s, sample_s, solve_all - vis_s, gather_s, visited, aggregates, exact, mb,
                                 diff.c_str());
+                    if (interp_k > 0) {
+                        const auto tn = std::chrono::steady_clock::now();
+                        std::vector<Vec3f> node_e(prior.position.size());
+                        gather_transport_prior(prior, &prior.position[0].x, &prior.normal[0].x, 3, node_e.size(), &node_e[0].x);
+                        const double node_s = seconds_since(tn);
+                        const auto ti = std::chrono::steady_clock::now();
+                        const std::vector<Vec3f> interp = interpolate_nodes(prior, node_e, gb, interp_k, spacing);
+                        const double interp_s = seconds_since(ti);
+                        const ScenePoints sp1 = sample_scene_points(accel, M, 1, true);
+                        const float spacing1 = float(std::sqrt(scene.total_area() / double(sp1.points.size())));
+                        const TransportPrior prior1 = solve_transport_prior(sp1.points, spacing1 * spacing1, 5, &sp1.emission_scale, vis,
+                                                                            nullptr, PriorBalance::none, true, theta);
+                        std::vector<Vec3f> e1(gb.n_hits());
+                        gather_transport_prior(prior1, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e1[0].x);
+                        std::printf("|   %d nearest nodes | | | gather at the nodes %.2f s | interpolation %.3f s | rel. RMS to the gather %.4f "
+                                    "| two point sets' gathers: rel. RMS %.4f | | |\n",
+                                    interp_k, node_s, interp_s, relative_rms(interp, e), relative_rms(e1, e));
+                        std::fflush(stdout);
+                    }
                     std::fflush(stdout);
                 }
             }
