@@ -45,15 +45,19 @@ std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &l
             }
         }
     });
+    std::vector<size_t> hits;
+    std::vector<float> rows;
+    for (size_t i = 0; i < n; ++i)
+        if (diffuse_hit[i]) hits.push_back(i), rows.insert(rows.end(), query.begin() + std::ptrdiff_t(i * 9), query.begin() + std::ptrdiff_t(i * 9 + 9));
+    if (hits.empty()) return radiance;
     // The hits in an order where neighbours facing alike follow each other (PriorTree::group_order):
     // the decode goes in chunks, and the prior's gather walks its tree for neighbours together, so
     // ordered hits share their walks (each hit's answer does not depend on its company).
-    const std::vector<uint32_t> order = PriorTree::group_order(query.data(), query.data() + 3, 9, n);
+    const std::vector<uint32_t> order = PriorTree::group_order(rows.data(), rows.data() + 3, 9, hits.size());
     std::vector<size_t> at;
     std::vector<float> q;
-    for (uint32_t i : order)
-        if (diffuse_hit[i]) at.push_back(i), q.insert(q.end(), query.begin() + std::ptrdiff_t(size_t(i) * 9), query.begin() + std::ptrdiff_t(size_t(i) * 9 + 9));
-    if (at.empty()) return radiance;
+    for (uint32_t k : order)
+        at.push_back(hits[k]), q.insert(q.end(), rows.begin() + std::ptrdiff_t(size_t(k) * 9), rows.begin() + std::ptrdiff_t(size_t(k) * 9 + 9));
     const auto e = model->predict_irradiance(rows_tensor(q, 9), latents, 16384).contiguous();
     const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
     for (size_t k = 0; k < at.size(); ++k) {

@@ -361,14 +361,14 @@ void PriorTree::traverse(const Receiver *receivers, int count, std::vector<Entry
                             open & ~skip;
             for (int l = 0; l < k_group; ++l) {
                 if (!(aggregate >> l & 1u)) continue;
-                if (uniform[l]) visit.aggregate(l, e.node, w[l], Vec3f(dx[l], dy[l], dz[l]));
+                if (uniform[l]) visit.aggregate(q, l, e.node, w[l], Vec3f(dx[l], dy[l], dz[l]));
                 else aggregate &= ~(1u << l);
             }
             open &= ~(skip | aggregate);
             if (!open) continue;
         }
         if (s.child[0] < 0) {
-            visit.exact(open, s.lo, s.hi, w);
+            visit.exact(q, open, s.lo, s.hi, w);
             continue;
         }
         // Below a cluster's root the weight is the cluster's.
@@ -387,12 +387,11 @@ void PriorTree::traverse(const Receiver *receivers, int count, std::vector<Entry
 // them against values at once (SumSink: gather_group). Both give den and Σ terms · x alike.
 template <class Sink> struct PriorTree::Terms {
     const PriorTree &tree;
-    const Lanes &q;
     Sink &sink;
     float side, reg, near_reach, scale;
     void visited() {}
     // The expansion of k about the centroid (header): Σ_j k(p_j) x_j ≈ k(c)·f·Σ_j x_j + ∇k(c)·Σ_j x_j e_j.
-    void aggregate(int l, uint32_t t, float w, Vec3f d) {
+    void aggregate(const Lanes &q, int l, uint32_t t, float w, Vec3f d) {
         const Node &s = tree.m_tree[t];
         const Vec3f n = q.n(l);
         const double u = double(dot(d, d));
@@ -430,7 +429,7 @@ template <class Sink> struct PriorTree::Terms {
     // The dense row's terms (transport_prior.cpp): the point formula, and within 2.5 s the square
     // patch's form factor blended in over r ∈ [1.5 s, 2.5 s]. Member by member, the point formula
     // for every lane at once.
-    void exact(uint32_t mask, uint32_t lo, uint32_t hi, const float *w) {
+    void exact(const Lanes &q, uint32_t mask, uint32_t lo, uint32_t hi, const float *w) {
         const f8 zero = {};
         for (uint32_t j = lo; j < hi; ++j) {
             const f8 dx = tree.m_px[j] - q.px, dy = tree.m_py[j] - q.py, dz = tree.m_pz[j] - q.pz;
@@ -497,9 +496,8 @@ void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Sc
     if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
     if (count == 0) return;
     for (int l = 0; l < count; ++l) rows[l].clear();
-    const Lanes q(receivers, count);
     RowSink sink{rows};
-    Terms<RowSink> terms{*this, q, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
+    Terms<RowSink> terms{*this, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
     traverse(receivers, count, scratch.stack, terms);
 }
 
@@ -507,9 +505,8 @@ void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x
                              Scratch &scratch) const {
     if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
     if (count == 0) return;
-    const Lanes q(receivers, count);
     SumSink sink{x, {}, {}, {}};
-    Terms<SumSink> terms{*this, q, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
+    Terms<SumSink> terms{*this, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
     traverse(receivers, count, scratch.stack, terms);
     for (int l = 0; l < count; ++l) {
         den[l] = sink.den[l];
@@ -532,14 +529,6 @@ void PriorTree::apply(const Row &row, const Sums &x, double num[3]) const {
 size_t PriorTree::Row::bytes() const {
     return sizeof(Row) + aggregates.capacity() * sizeof(Aggregate) + exact.capacity() * sizeof(Exact);
 }
-
-void PriorTree::row(Vec3f p, Vec3f n, const View &view, const Sums *x, double &den, double num[3], Scratch &scratch) const {
-    record(p, n, view, scratch.row, scratch);
-    den = scratch.row.den;
-    if (x) apply(scratch.row, *x, num);
-    else num[0] = num[1] = num[2] = 0;
-}
-
 
 std::vector<uint32_t> PriorTree::group_order(const float *position, const float *normal, size_t stride, size_t n) {
     Vec3f lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
@@ -582,8 +571,8 @@ PriorTree::Work PriorTree::count(Vec3f p, Vec3f n, const View &view, Scratch &sc
     struct Visit {
         Work w;
         void visited() { ++w.visited; }
-        void aggregate(int, uint32_t, float, Vec3f) { ++w.aggregates; }
-        void exact(uint32_t, uint32_t lo, uint32_t hi, const float *) { w.exact += hi - lo; }
+        void aggregate(const Lanes &, int, uint32_t, float, Vec3f) { ++w.aggregates; }
+        void exact(const Lanes &, uint32_t, uint32_t lo, uint32_t hi, const float *) { w.exact += hi - lo; }
     } visit;
     const Receiver r{p, n, view};
     traverse(&r, 1, scratch.stack, visit);

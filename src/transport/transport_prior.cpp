@@ -286,14 +286,16 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
     std::vector<uint8_t> kept(m, 0);
     std::atomic<size_t> kept_bytes{0};
     // One pass: every node's row against the values x; the first also keeps each row's sum and
-    // closure and records the rows.
-    // Nodes walk the tree in groups of k_group consecutive places (neighbours facing alike, mostly
-    // one leaf's: PriorTree::record_group), each with the row it would have alone. A chunk of 16
-    // groups reuses one scratch (its rows' capacity).
+    // closure and records the rows. Nodes walk the tree in groups of k_group consecutive places
+    // (neighbours facing alike, mostly one leaf's: PriorTree::record_group), each with the row it
+    // would have alone. A chunk of 16 groups reuses one scratch (its rows' capacity).
     constexpr int G = PriorTree::k_group;
     const std::vector<uint32_t> &place = tree.place_nodes();
     auto pass = [&](const std::vector<Vec3f> &x, bool first, std::vector<Vec3f> &gathered) {
         const PriorTree::Sums sums = tree.sums(x);
+        auto gather = [&](size_t j, const double num[3]) {
+            for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
+        };
         parallel_for(0, int64_t((m + G - 1) / G), 16, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
             BlendedView bv[G];
@@ -307,7 +309,7 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
                     double num[3];
                     if (kept[j]) {
                         tree.apply(rows[j], sums, num);
-                        for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
+                        gather(j, num);
                         continue;
                     }
                     const float c = bv[count].set(vis, position[j], normal[j], vis.empty() ? nullptr : &vis.node_cluster[j]);
@@ -327,7 +329,7 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
                         const size_t bytes = row.bytes();
                         if (kept_bytes.fetch_add(bytes) + bytes <= row_budget) rows[j] = row, kept[j] = 1;
                     }
-                    for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
+                    gather(j, num);
                 }
             }
         });

@@ -143,6 +143,7 @@ TEST(PriorHierarchy, AGroupWalksAsEachReceiverAlone) {
     auto check = [&](const PriorTree &tree, const PriorTree::Sums &sums, Receivers r, const char *what) {
         for (size_t i = 0; i < r.rc.size(); ++i) r.rc[i].view.ids = r.ids[i].data(), r.rc[i].view.w = r.w[i].data();
         PriorTree::Scratch scratch, alone;
+        PriorTree::Row one;
         for (size_t first = 0; first < r.rc.size(); first += PriorTree::k_group) {
             const int count = int(std::min<size_t>(PriorTree::k_group, r.rc.size() - first));
             const PriorTree::Receiver *rc = &r.rc[first];
@@ -150,13 +151,13 @@ TEST(PriorHierarchy, AGroupWalksAsEachReceiverAlone) {
             double den[PriorTree::k_group], num[PriorTree::k_group][3];
             tree.gather_group(rc, count, sums, den, num, scratch);
             for (int l = 0; l < count; ++l) {
-                tree.record(rc[l].p, rc[l].n, rc[l].view, alone.row, alone);
-                EXPECT_TRUE(same_row(scratch.rows[l], alone.row)) << what << ": receiver " << first + size_t(l) << " lane " << l;
+                tree.record(rc[l].p, rc[l].n, rc[l].view, one, alone);
+                EXPECT_TRUE(same_row(scratch.rows[l], one)) << what << ": receiver " << first + size_t(l) << " lane " << l;
                 double applied[3];
-                tree.apply(alone.row, sums, applied);
-                EXPECT_TRUE(bits_equal(den[l], alone.row.den)) << what;
+                tree.apply(one, sums, applied);
+                EXPECT_TRUE(bits_equal(den[l], one.den)) << what;
                 for (int c = 0; c < 3; ++c) EXPECT_TRUE(bits_equal(num[l][c], applied[c])) << what << " channel " << c;
-                ++rows, aggregates += alone.row.aggregates.size();
+                ++rows, aggregates += one.aggregates.size();
                 for (int j = 0; j < l; ++j)
                     copies += rc[j].view.K == rc[l].view.K && rc[l].view.K > 0 && r.ids[first + size_t(j)] == r.ids[first + size_t(l)] &&
                               r.w[first + size_t(j)] == r.w[first + size_t(l)] && !(rc[j].p == rc[l].p);

@@ -123,16 +123,14 @@ public:
     /// What a walk reuses between calls (one per thread): its stack and rows to record into.
     struct Scratch {
         std::vector<Entry> stack;
-        Row row;
         Row rows[k_group];
     };
-    /// One receiver's row: den = Σ_j v_j t_j and num_c = Σ_j v_j t_j x_jc over the nodes it sees
-    /// (v_j = Σ_k w_k V(ids_k, cluster(j)), as the dense rows), with the far ones through aggregates
-    /// (header). `x` null: den alone. `scratch` holds the traversal's stack between calls (one per
-    /// thread). Deterministic. O(K) per visited tree node for the visibility (tables of what each
-    /// cluster sees of every subtree above the clusters), nothing per cluster.
-    void row(Vec3f p, Vec3f n, const View &view, const Sums *x, double &den, double num[3], Scratch &scratch) const;
-    /// row() in two steps: the row's terms (den included), then num_c = Σ terms · x for any values.
+    /// One receiver's row, recorded: its terms, with den = Σ_j v_j t_j, and num_c = Σ_j v_j t_j x_jc
+    /// for any values x by apply(), over the nodes it sees (v_j = Σ_k w_k V(ids_k, cluster(j)), as
+    /// the dense rows), with the far ones through aggregates (header). `scratch` holds the walk's
+    /// stack between calls (one per thread). Deterministic. O(K) per visited tree node for the
+    /// visibility (tables of what each cluster sees of every subtree above the clusters), nothing
+    /// per cluster.
     void record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &scratch) const;
     /// record() for count ≤ k_group receivers in one walk of the tree: rows[l] is receiver l's row,
     /// bit for bit what record() gives it alone. Each tree node's bounds are computed for all of
