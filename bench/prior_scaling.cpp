@@ -9,9 +9,9 @@
 // (`/usr/bin/time -f %M`) for it.
 //   build/bench/prior_scaling SCENES M1,M2,... THETA1,THETA2,... [size=128] [clusters=1024]
 // SCENES: scene files, builtin:NAME or generated seeds as seed:N, comma-separated.
-// PRIOR_SCALING_NODE_INTERP=K also prints, per row, what a cheaper Ê⁺ at secondary hits would cost
-// in accuracy: the gather at the M nodes themselves, then each G-buffer query's E⁺ as the inverse-
-// distance mean of its K nearest nodes that face within 60° of it; its time and its relative RMS
+// PRIOR_SCALING_NODE_INTERP=1 also prints, per row, what the traced bounce's cheaper Ê⁺ at its hits
+// costs in accuracy: the gather at the M nodes themselves, then each G-buffer query's E⁺ interpolated
+// from them (PointInterpolator: the K nearest nodes on its surface); its time and its relative RMS
 // difference to the query's own gather, beside the same difference between two point sets (seeds 0
 // and 1: the prior's own sampling noise, the scale the interpolation's error is to be read against).
 #include <algorithm>
@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,7 +27,7 @@
 #include "ltm/core/parallel.h"
 #include "ltm/core/startup.h"
 #include "ltm/eval/eval_setup.h"
-#include "ltm/points/point_grid.h"
+#include "ltm/points/point_interpolation.h"
 #include "ltm/procgen/indoor_generator.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/scene_points.h"
@@ -50,35 +49,17 @@ double relative_rms(const std::vector<Vec3f> &a, const std::vector<Vec3f> &b) {
     return std::sqrt(num / std::max(den, 1e-30));
 }
 
-// E⁺ at each query from the K nearest nodes facing within 60° of it, weights 1/(d² + (s/2)²).
-std::vector<Vec3f> interpolate_nodes(const TransportPrior &prior, const std::vector<Vec3f> &node_e, const GBuffer &gb, int K,
-                                     float spacing) {
-    const PointGrid grid(prior.position, spacing);
-    std::vector<Vec3f> out(gb.n_hits(), Vec3f(0.f));
+// E⁺ at each query interpolated from the nodes (PointInterpolator, as the renderer's traced bounce
+// does); a query that no node serves keeps its own gather, as the renderer decodes it. -> values, misses
+std::pair<std::vector<Vec3f>, size_t> interpolate_nodes(const TransportPrior &prior, const std::vector<Vec3f> &node_e, const GBuffer &gb,
+                                                        const std::vector<Vec3f> &gathered, float spacing) {
+    const PointInterpolator interp(prior.position, prior.normal, spacing);
+    std::vector<Vec3f> out(gathered);
+    std::vector<uint8_t> miss(gb.n_hits(), 0);
     parallel_for(0, int64_t(gb.n_hits()), 256, [&](int64_t b, int64_t e) {
-        std::vector<std::pair<float, uint32_t>> best;
-        for (int64_t q = b; q < e; ++q) {
-            const Vec3f p = gb.position[size_t(q)], n = gb.normal[size_t(q)];
-            best.clear();
-            auto kth = [&] { return int(best.size()) < K ? std::numeric_limits<float>::infinity() : best.back().first; };
-            grid.visit_nearest(p, [&](uint32_t j) {
-                if (dot(prior.normal[j], n) < 0.5f) return;
-                const Vec3f d = prior.position[j] - p;
-                const float d2 = dot(d, d);
-                if (int(best.size()) == K && !(d2 < best.back().first)) return;
-                best.insert(std::upper_bound(best.begin(), best.end(), std::make_pair(d2, j)), {d2, j});
-                if (int(best.size()) > K) best.pop_back();
-            }, kth);
-            double w = 0;
-            Vec3f acc(0.f);
-            for (const auto &[d2, j] : best) {
-                const float wj = 1.f / (d2 + 0.25f * spacing * spacing);
-                acc += node_e[j] * wj, w += wj;
-            }
-            out[size_t(q)] = w > 0 ? acc / float(w) : Vec3f(0.f);
-        }
+        for (int64_t q = b; q < e; ++q) miss[size_t(q)] = !interp.interpolate(gb.position[size_t(q)], gb.normal[size_t(q)], node_e.data(), out[size_t(q)]);
     });
-    return out;
+    return {out, size_t(std::count(miss.begin(), miss.end(), uint8_t(1)))};
 }
 }  // namespace
 
@@ -96,7 +77,7 @@ int main(int argc, char **argv) {
     for (const std::string &t : bench::split_commas(argv[3])) thetas.push_back(std::stof(t));
     const int size = argc > 4 ? std::atoi(argv[4]) : 128, clusters = argc > 5 ? std::atoi(argv[5]) : 1024;
     const char *interp_env = std::getenv("PRIOR_SCALING_NODE_INTERP");
-    const int interp_k = interp_env ? std::atoi(interp_env) : 0;
+    const bool interp_nodes = interp_env && std::atoi(interp_env) > 0;
     std::printf("| scene | M | θ | clusters + visibility (s) | solve (s) | gather %d² (s) | visited / aggregates / exact per receiver | tree MB | E⁺ vs dense (rel. RMS) |\n"
                 "|---|---|---|---|---|---|---|---|---|\n",
                 size);
@@ -151,13 +132,13 @@ int main(int argc, char **argv) {
                     std::printf("| %s | %lld | %.2f | %.2f (sample %.2f) | %.2f | %.2f | %.0f / %.0f / %.0f | %.1f | %s |\n", name.c_str(),
                                 (long long)M, double(theta), vis_s, sample_s, solve_all - vis_s, gather_s, visited, aggregates, exact, mb,
                                 diff.c_str());
-                    if (interp_k > 0) {
+                    if (interp_nodes) {
                         const auto tn = std::chrono::steady_clock::now();
                         std::vector<Vec3f> node_e(prior.position.size());
                         gather_transport_prior(prior, &prior.position[0].x, &prior.normal[0].x, 3, node_e.size(), &node_e[0].x);
                         const double node_s = seconds_since(tn);
                         const auto ti = std::chrono::steady_clock::now();
-                        const std::vector<Vec3f> interp = interpolate_nodes(prior, node_e, gb, interp_k, spacing);
+                        const auto [interp, misses] = interpolate_nodes(prior, node_e, gb, e, spacing);
                         const double interp_s = seconds_since(ti);
                         const ScenePoints sp1 = sample_scene_points(accel, M, 1, true);
                         const float spacing1 = float(std::sqrt(scene.total_area() / double(sp1.points.size())));
@@ -165,9 +146,10 @@ int main(int argc, char **argv) {
                                                                             nullptr, PriorBalance::none, true, theta);
                         std::vector<Vec3f> e1(gb.n_hits());
                         gather_transport_prior(prior1, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e1[0].x);
-                        std::printf("|   %d nearest nodes | | | gather at the nodes %.2f s | interpolation %.3f s | rel. RMS to the gather %.4f "
-                                    "| two point sets' gathers: rel. RMS %.4f | | |\n",
-                                    interp_k, node_s, interp_s, relative_rms(interp, e), relative_rms(e1, e));
+                        std::printf("|   nodes interpolated | | | gather at the nodes %.2f s | interpolation %.3f s (%.1f %% of queries gathered) "
+                                    "| rel. RMS to the gather %.4f | two point sets' gathers: rel. RMS %.4f | | |\n",
+                                    node_s, interp_s, 100.0 * double(misses) / double(std::max<size_t>(1, gb.n_hits())),
+                                    relative_rms(interp, e), relative_rms(e1, e));
                         std::fflush(stdout);
                     }
                     std::fflush(stdout);

@@ -96,7 +96,13 @@ struct NeuralRenderArgs {
     std::string glossy = "auto";   ///< conductor shading: auto | trace | head | diffuse (GlossyShading)
     int scene_points = 0;          ///< 0: the model's own M, -1: auto (set_auto_scene_points)
     double prior_theta = -1;       ///< < 0: the model's own (set_prior_theta otherwise)
+    std::string bounce = "auto";   ///< --glossy trace: Ê⁺ at the bounce's hits, auto | nodes | decode (BounceIrradiance)
 };
+
+/// `--bounce-irradiance`'s help, shared by render and eval.
+inline constexpr const char *k_bounce_irradiance_help =
+    "Conductors by a traced bounce (neural): E+ at the bounce's hits interpolated from the scene points (nodes: M "
+    "decodes, then ~50x cheaper a hit), decoded at each (decode), or auto = nodes when the bounce has >= 2 M rays";
 
 /// `--prior-theta`'s help, shared by render, eval and bake-gi.
 inline constexpr const char *k_prior_theta_help =

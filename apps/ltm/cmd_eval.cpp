@@ -28,6 +28,7 @@ struct EvalArgs {
     bool no_grids = false, run_physics = false, physics_only = false, radiance = false;
     int direct_spp = 16, glossy_samples = 0, scene_points = 0;
     double prior_theta = -1;
+    std::string bounce = "auto";
 };
 
 void declare(CLI::App &sub, EvalArgs &a) {
@@ -74,6 +75,10 @@ void declare(CLI::App &sub, EvalArgs &a) {
                    "--radiance: the neural render's GGX samples per conductor pixel (0: 64 traced, 16 through the head)")
         ->capture_default_str()
         ->check(CLI::Range(0, 1 << 16));
+    sub.add_option("--bounce-irradiance", a.bounce,
+                   std::string("--radiance: ") + k_bounce_irradiance_help + "; the other way is a row of its own (/bounce-…)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "nodes", "decode"}));
     add_output_option(sub, a.output, "Output directory");
 }
 
@@ -131,6 +136,7 @@ void run(const EvalArgs &a, const CommonOptions &common) {
     if (a.radiance) {
         RadianceEvalOptions ro;
         ro.base = opt, ro.direct_spp = a.direct_spp, ro.glossy_samples = a.glossy_samples;
+        ro.bounce = parse_bounce_irradiance(a.bounce);
         const RadianceEvalReport rr = run_radiance_evaluation(scenes, models, ro);
         if (rr.all.views.empty()) LTM_THROW("eval --radiance: no view saw any surface");
         OrderedJson j = rr.to_json();

@@ -19,7 +19,8 @@ namespace ltm::cli {
 
 namespace {
 struct RenderArgs {
-    std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto", glossy = "auto";
+    std::string scene, output, camera, method = "pathtrace", model, direct_estimator = "auto", glossy = "auto",
+                bounce = "auto";
     int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024, guide_resolution = 16, glossy_samples = 0,
         scene_points = 0;
     float exposure = 1.f, guide_alpha = 0.25f;
@@ -47,6 +48,9 @@ void declare(CLI::App &sub, RenderArgs &a) {
                    "GGX samples per conductor pixel (neural; 0: 64 with --glossy trace, 16 with head)")
         ->capture_default_str()
         ->check(CLI::Range(0, 4096));
+    sub.add_option("--bounce-irradiance", a.bounce, k_bounce_irradiance_help)
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "nodes", "decode"}));
     sub.add_option("--guide-points", a.guide_points, "Surface points whose L_in bins the head predicts (guided)")
         ->capture_default_str()
         ->check(CLI::Range(9, 1 << 20));
@@ -86,7 +90,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
         if (a.direct_spp <= 0) LTM_THROW("--direct-spp ", a.direct_spp, ": must be > 0");
         run_neural_render(
             {a.scene, a.camera, a.model, prefix, a.width, a.height, a.direct_spp, a.exposure, true, a.gi_stride,
-             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta},
+             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta, a.bounce},
             common);
         return;
     #else

@@ -46,12 +46,15 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     opt.gi.stride = a.gi_stride;
     opt.glossy_samples = a.glossy_samples;
     opt.glossy = glossy;
+    opt.bounce = parse_bounce_irradiance(a.bounce);
     const NeuralRender r = render_neural(m.model, pt, cam, opt);
     if (r.n_conductor > 0 && r.glossy == GlossyShading::diffuse)
         log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (--glossy diffuse)");
     else if (r.n_conductor > 0)
         log_info(r.n_conductor, " conductor pixels shaded by ", r.glossy == GlossyShading::head ? "the directional head" : "one traced bounce",
-                 " (", r.glossy_samples, " GGX samples each) in ", format_duration(r.timings.glossy));
+                 " (", r.glossy_samples, " GGX samples each",
+                 r.glossy == GlossyShading::trace ? std::string(r.bounce == BounceIrradiance::nodes ? "; E+ at its hits from the scene points" : "; E+ decoded at its hits") : "",
+                 ") in ", format_duration(r.timings.glossy));
     t = Clock::now();
     write_rendered_image(r.image, a.prefix, a.exposure);
     write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
@@ -70,6 +73,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"conductor_pixels", r.n_conductor},
                      {"glossy", glossy_shading_name(r.glossy)},
                      {"glossy_samples", r.glossy_samples},
+                     {"bounce_irradiance", r.glossy == GlossyShading::trace ? bounce_irradiance_name(r.bounce) : "none"},
                      {"threads", common.threads},
                      {"timings", rt.to_json()},
                      {"outside_render", {{"before_command_s", before_command},

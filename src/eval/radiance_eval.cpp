@@ -79,11 +79,27 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
             for (size_t mi = 0; mi < models.size(); ++mi) {
                 NeuralRenderOptions no;
                 no.direct_spp = opt.direct_spp, no.seed = o.seed, no.exclude_enclosed = o.exclude_enclosed;
-                no.glossy_samples = opt.glossy_samples, no.glossy = GlossyShading::trace;
+                no.glossy_samples = opt.glossy_samples, no.glossy = GlossyShading::trace, no.bounce = opt.bounce;
                 const NeuralRender traced = render_neural(models[mi].model, pt_neural, cam, no);
                 add("model:" + models[mi].name, traced.image.color, traced.timings.total, 0);
                 if (mi == 0) first_model_seconds = traced.timings.total, first_model = traced.image.color;
                 if (mi == 0) tiles.push_back(traced.image.color);
+                {
+                    // The bounce's Ê⁺ the other way: decoded at each hit (the reference), or with
+                    // --bounce-irradiance decode interpolated from the points. Where the render
+                    // already took that way (auto with few rays), or the view shows no conductor
+                    // (only conductor pixels differ), the row repeats the render's image and time:
+                    // every row summarises the same views.
+                    NeuralRenderOptions other = no;
+                    other.bounce = opt.bounce == BounceIrradiance::decode ? BounceIrradiance::nodes : BounceIrradiance::decode;
+                    const std::string row = "model:" + models[mi].name + "/bounce-" + bounce_irradiance_name(other.bounce);
+                    if (n_conductor > 0 && traced.bounce != other.bounce) {
+                        const NeuralRender alt = render_neural(models[mi].model, pt_neural, cam, other);
+                        add(row, alt.image.color, alt.timings.total, 0);
+                    } else {
+                        add(row, traced.image.color, traced.timings.total, 0);
+                    }
+                }
                 if (models[mi].model->directional) {
                     // Conductors through the directional head (paper Fig. 11): the same render but
                     // for L⁺ along the GGX samples; the same image where the view shows no conductor.

@@ -1,7 +1,9 @@
 // neural_renderer.cpp: encode once, decode the G-buffer, add direct light, compose.
 #include "ltm/infer/neural_renderer.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 
 #include "ltm/core/error.h"
@@ -34,6 +36,8 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
     auto t = Clock::now();
     const ScenePoints sampled = sample_scene_points(accel, model->cfg.scene_points, seed, exclude_enclosed);
     const auto points = point_tensor(sampled.points);
+    enc.points = sampled.points;
+    enc.spacing = float(std::sqrt(accel.scene().total_area() / double(std::max<size_t>(1, sampled.points.size()))));
     const Vec3f s = sampled.emission_scale;
     const auto emission_scale = torch::tensor({s.x, s.y, s.z});
     enc.n_scene_points = points.size(0);
@@ -149,6 +153,22 @@ GlossyShading parse_glossy_shading(const std::string &name) {
     LTM_THROW("glossy shading '", name, "': expected auto, trace, head or diffuse");
 }
 
+BounceIrradiance parse_bounce_irradiance(const std::string &name) {
+    if (name == "auto") return BounceIrradiance::automatic;
+    if (name == "nodes") return BounceIrradiance::nodes;
+    if (name == "decode") return BounceIrradiance::decode;
+    LTM_THROW("bounce irradiance '", name, "': expected auto, nodes or decode");
+}
+
+const char *bounce_irradiance_name(BounceIrradiance b) {
+    switch (b) {
+        case BounceIrradiance::automatic: return "auto";
+        case BounceIrradiance::nodes: return "nodes";
+        case BounceIrradiance::decode: return "decode";
+    }
+    return "?";
+}
+
 const char *glossy_shading_name(GlossyShading g) {
     switch (g) {
         case GlossyShading::automatic: return "auto";
@@ -228,7 +248,7 @@ std::vector<Vec3f> head_radiance(LtmModel &model, const EncodedScene &enc, const
 
 // One traced bounce (GlossyShading::trace) along every row with a sample.  -> [H·K]
 std::vector<Vec3f> traced_radiance(LtmModel &model, const EncodedScene &enc, const PathTracer &pt, const GBuffer &gb,
-                                   const ConductorSamples &c, const DirectIrradianceFn &direct) {
+                                   const ConductorSamples &c, const DirectIrradianceFn &direct, BounceIrradiance bounce) {
     const size_t K = size_t(c.K), rows = c.hits.size() * K;
     std::vector<Ray> rays(rows, Ray{Vec3f(0.f), Vec3f(0.f)});   // zero direction: a failed sample, skipped
     std::vector<uint64_t> keys(rows);
@@ -237,7 +257,12 @@ std::vector<Vec3f> traced_radiance(LtmModel &model, const EncodedScene &enc, con
         keys[row] = hash_keys({k_conductor_bounce, uint64_t(gb.hit_pixels[k]), uint64_t(row % K)});
         if (c.weight[row] != Vec3f(0.f)) rays[row] = Ray{offset_ray_origin(gb.position[k], gb.normal[k], c.dir[row]), c.dir[row]};
     }
-    return traced_bounce_radiance(model, enc.latents, pt, rays, keys, direct);
+    std::optional<NodeIrradiance> nodes;
+    if (bounce == BounceIrradiance::nodes) {
+        nodes = decode_node_irradiance(model, enc.latents, enc.points, enc.spacing);
+        log_debug("traced bounce: Ê⁺ at the ", nodes->irradiance.size(), " scene points in ", nodes->seconds, " s");
+    }
+    return traced_bounce_radiance(model, enc.latents, pt, rays, keys, direct, /*with_emission=*/false, nodes ? &*nodes : nullptr);
 }
 
 // Writes Le + L_direct + (1/K) Σ weight · L⁺ at the conductor pixels.
@@ -290,7 +315,12 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
         } else {
             // Light samples per bounce hit: the pixel's budget spread over its K samples.
             const int spp = (opt.direct_spp + K - 1) / K;
-            compose_conductors(gb, c, traced_radiance(model, enc, pt, gb, c, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, spp)),
+            r.bounce = opt.bounce;
+            if (r.bounce == BounceIrradiance::automatic)
+                r.bounce = int64_t(c.hits.size()) * K >= k_bounce_nodes_per_point * enc.n_scene_points ? BounceIrradiance::nodes
+                                                                                                        : BounceIrradiance::decode;
+            compose_conductors(gb, c, traced_radiance(model, enc, pt, gb, c, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, spp),
+                                               r.bounce),
                                r.image);
         }
         r.timings.glossy = seconds_since(tg);

@@ -59,7 +59,8 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
     EXPECT_EQ(r.conductor_pixels, n_conductor);
     EXPECT_EQ(r.conductors.views[0].pixels, n_conductor);
     const ViewResult &all = r.all.views[0], &cond = r.conductors.views[0];
-    for (const char *m : {"model:tiny", "model:tiny/head-conductors", "model:tiny/diffuse-conductors", "pt4", "pt-equal-time", "flat-oracle"}) {
+    for (const char *m : {"model:tiny", "model:tiny/bounce-decode", "model:tiny/head-conductors", "model:tiny/diffuse-conductors", "pt4",
+                          "pt-equal-time", "flat-oracle"}) {
         for (const ViewResult *v : {&all, &cond}) {
             const MethodResult &x = row(*v, m);
             EXPECT_TRUE(std::isfinite(x.metrics.mse) && std::isfinite(x.metrics.rel_mse) && std::isfinite(x.field.level_ratio)) << m;
@@ -70,12 +71,22 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
     // The traced bounce and the head change only conductor pixels: (MSE_all(x) − MSE_all(diffuse)) ·
     // N_pixels equals (MSE_cond(x) − MSE_cond(diffuse)) · N_conductor, with N_pixels the whole image.
     const double n_pixels = 24.0 * 24.0;
-    for (const char *m : {"model:tiny", "model:tiny/head-conductors"}) {
+    for (const char *m : {"model:tiny", "model:tiny/bounce-decode", "model:tiny/head-conductors"}) {
         const double d_all = (row(all, m).metrics.mse - row(all, "model:tiny/diffuse-conductors").metrics.mse) * n_pixels;
         const double d_cond = (row(cond, m).metrics.mse - row(cond, "model:tiny/diffuse-conductors").metrics.mse) * double(n_conductor);
         EXPECT_GT(std::abs(d_cond), 1e-6) << m;
         EXPECT_NEAR(d_all, d_cond, 1e-6 * n_pixels) << m;
     }
+    // The bounce's hits: the /bounce-decode row (decoded at each hit) is the model row of
+    // --bounce-irradiance decode, whose own extra row is the render here (auto: interpolated from
+    // the points, the bounce having more than 2·M rays) and another image.
+    RadianceEvalOptions decode = opt;
+    decode.bounce = BounceIrradiance::decode;
+    const RadianceEvalReport rd = run_radiance_evaluation({{"room", scene}}, models, decode);
+    const ViewResult &cond_d = rd.conductors.views[0];
+    EXPECT_EQ(row(cond_d, "model:tiny").metrics.mse, row(cond, "model:tiny/bounce-decode").metrics.mse);
+    EXPECT_EQ(row(cond_d, "model:tiny/bounce-nodes").metrics.mse, row(cond, "model:tiny").metrics.mse);
+    EXPECT_NE(row(cond_d, "model:tiny").metrics.mse, row(cond, "model:tiny").metrics.mse);
     const std::string md = r.table_markdown();
     EXPECT_NE(md.find("Conductor pixels (" + std::to_string(n_conductor)), std::string::npos) << md;
     EXPECT_NE(md.find("| model:tiny/diffuse-conductors |"), std::string::npos);

@@ -4,6 +4,9 @@
 //                  diffuse pixels, full path tracing on conductors;
 //   model:NAME     render_neural: Ê⁺ on diffuse pixels; on conductors NEE direct light + GGX samples
 //                  of one traced bounce into the model's Ê⁺ (GlossyShading::trace, the default);
+//   model:NAME/bounce-decode (/bounce-nodes with `bounce` decode)   the same render with Ê⁺ at
+//                  the bounce's hits decoded at each (interpolated from the scene points): what
+//                  interpolating costs in accuracy, and what it saves in time;
 //   model:NAME/head-conductors   the same with the directional head's L̂⁺ along the GGX samples
 //                  (paper Fig. 11; only for weights that carry a head);
 //   model:NAME/diffuse-conductors   the traced render's E_direct and Ê⁺ with conductors shaded as
@@ -20,6 +23,7 @@
 
 #include "ltm/core/json_util.h"
 #include "ltm/eval/experiment.h"
+#include "ltm/infer/neural_renderer.h"
 
 namespace ltm {
 
@@ -27,6 +31,7 @@ struct RadianceEvalOptions {
     EvalOptions base;          ///< size, views, ref_spp, baseline_spp, seed, out_dir (ref_cache_dir, gi_stride unused)
     int direct_spp = 16;       ///< the neural render's light samples per pixel
     int glossy_samples = 0;    ///< the neural render's GGX samples per conductor pixel (0: 64 traced, 16 through the head)
+    BounceIrradiance bounce = BounceIrradiance::nodes;   ///< the model rows' traced bounce (the other way: its own row)
 };
 
 struct RadianceEvalReport {

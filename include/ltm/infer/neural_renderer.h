@@ -55,6 +55,8 @@ int apply_point_options(LtmModel &model, int given, double prior_theta);
 
 struct EncodedScene {
     SceneLatents latents;
+    PointSet points;   ///< [M, 12] the scene points it was encoded from (scene_point_columns(), raw)
+    float spacing = 0;   ///< their mean spacing √(A/M), metres
     int64_t n_scene_points = 0;
     double sample_seconds = 0, geometry_seconds = 0, encode_seconds = 0;
 };
@@ -102,6 +104,22 @@ enum class GlossyShading {
 GlossyShading parse_glossy_shading(const std::string &name);   ///< "auto" | "trace" | "head" | "diffuse"
 const char *glossy_shading_name(GlossyShading g);
 
+/// Where GlossyShading::trace takes Ê⁺(y) at its bounce hits y. The two agree on conductor pixels
+/// within the prior's own noise (docs/results.md, session 26); `nodes` costs M decodes up front and
+/// ~1/50 of a decode a hit.
+enum class BounceIrradiance {
+    automatic,   ///< nodes where the bounce has at least k_bounce_nodes_per_point · M rays, else decode
+    /// Interpolated from Ê⁺ decoded once at the M scene points (NodeIrradiance; decoded where no
+    /// point lies on y's surface nearby).
+    nodes,
+    decode,   ///< decoded at every hit, as the G-buffer's pixels are (the reference for `nodes`)
+};
+/// Rays per scene point above which `automatic` interpolates: below it the M decodes at the points
+/// cost about what decoding each hit does.
+constexpr int64_t k_bounce_nodes_per_point = 2;
+BounceIrradiance parse_bounce_irradiance(const std::string &name);   ///< "auto" | "nodes" | "decode"
+const char *bounce_irradiance_name(BounceIrradiance b);
+
 struct NeuralTimings {
     double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
     double glossy = 0;   ///< conductor pixels (direct light + L⁺ by the GlossyShading used)
@@ -118,6 +136,7 @@ struct NeuralRender {
     int64_t n_scene_points = 0, n_conductor = 0;
     GlossyShading glossy = GlossyShading::diffuse;   ///< how conductor pixels were shaded (diffuse if none is seen)
     int glossy_samples = 0;                          ///< GGX samples per conductor pixel used (0: none)
+    BounceIrradiance bounce = BounceIrradiance::decode;   ///< `trace`: how its hits' Ê⁺ was taken (nodes or decode)
     DirectEstimator direct = DirectEstimator::mis;   ///< the estimator that was used
 };
 struct NeuralRenderOptions {
@@ -132,6 +151,7 @@ struct NeuralRenderOptions {
     /// With `trace`, each sample's hit gets ⌈direct_spp / glossy_samples⌉ light samples.
     GlossyShading glossy = GlossyShading::automatic;
     int glossy_samples = 0;
+    BounceIrradiance bounce = BounceIrradiance::automatic;   ///< `trace`: Ê⁺ at the bounce's hits
 };
 /// The whole neural render of one view.
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);

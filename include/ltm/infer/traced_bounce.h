@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "ltm/nn/ltm_model.h"
+#include "ltm/points/point_interpolation.h"
+#include "ltm/points/point_set.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/path_tracer.h"
 
@@ -27,14 +29,28 @@ using DirectIrradianceFn = std::function<Vec3f(Vec3f p, Vec3f n, uint64_t key)>;
 /// samples per call.
 DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectLight *ratio, int spp);
 
+/// Ê⁺ decoded once at the M scene points (each point its own query: p, n, albedo) for the bounce's
+/// hits to interpolate (PointInterpolator) instead of decoding each: a gather of the prior costs
+/// ~50× an interpolation, and a conductor pixel asks for 64 hits.
+struct NodeIrradiance {
+    PointInterpolator interpolator;
+    std::vector<Vec3f> irradiance;   ///< [M] Ê⁺ at the scene points (W/m²)
+    double seconds = 0;              ///< the decode at the points
+};
+/// points: the scene points the latents were encoded from ([M, 12] scene_point_columns(), raw);
+/// spacing: their mean spacing √(A/M) in metres.
+NodeIrradiance decode_node_irradiance(LtmModel &model, const SceneLatents &latents, const PointSet &points, float spacing);
+
 /// L⁺ along n rays (origin offset off a surface, unit direction; a zero direction: the row is
 /// skipped and gets 0), for a scene encoded into `latents` and traced by `pt` (the same scene).
 /// with_emission: L_in instead, the hit surface's emission towards the ray's origin added.
 /// keys[i]: row i's random stream (direct light at its hit, the path beyond a conductor).
-/// Ê⁺ of every diffuse hit is decoded in one batch in row order. -> [n] radiance (W/m²/sr per
-/// channel). Deterministic at any thread count.
+/// Ê⁺ of every diffuse hit is decoded in one batch; with `nodes`, interpolated from them instead,
+/// and decoded only where no scene point lies on the hit's surface nearby. -> [n] radiance
+/// (W/m²/sr per channel). Deterministic at any thread count.
 std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &latents, const PathTracer &pt,
                                           const std::vector<Ray> &rays, const std::vector<uint64_t> &keys,
-                                          const DirectIrradianceFn &direct, bool with_emission = false);
+                                          const DirectIrradianceFn &direct, bool with_emission = false,
+                                          const NodeIrradiance *nodes = nullptr);
 
 }  // namespace ltm
