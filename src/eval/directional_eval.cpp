@@ -61,7 +61,7 @@ std::vector<Vec3f> traced_bins(LtmModel &model, const SceneLatents &lat, const S
                 }
             }
         }
-        const std::vector<Vec3f> l = traced_bounce_radiance(model, lat, pt, rays, keys, direct, with_emission);
+        const std::vector<Vec3f> l = traced_bounce_radiance(model_irradiance(model, lat), pt, rays, keys, direct, with_emission);
         for (size_t row = 0; row < rows; ++row) bins[j0 * nb + row / s_n] += l[row] / float(S);
     }
     return bins;

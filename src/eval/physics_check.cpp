@@ -2,6 +2,7 @@
 #include "ltm/eval/physics_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -26,10 +27,12 @@ Camera check_camera(const Scene &scene, const PhysicsCheckOptions &opt) {
     return cam;
 }
 
-// Ê⁺ of `model` at the G-buffer points, the scene points sampled from `scene` as the dataset does.
-std::vector<Vec3f> predict(LtmModel &model, const Scene &scene, const GBuffer &gb, const PhysicsCheckOptions &opt) {
+// Ê⁺ at the G-buffer points, the scene points sampled from `scene` as the dataset does: [0] the
+// model's, [1] its own prior's (the network silenced; one encode serves both).
+std::array<std::vector<Vec3f>, 2> predict(LtmModel &model, const Scene &scene, const GBuffer &gb, const PhysicsCheckOptions &opt) {
     const EmbreeAccel accel(scene);
-    return predict_gbuffer(model, encode_scene(model, accel, opt.seed, opt.exclude_enclosed), gb);
+    const EncodedScene enc = encode_scene(model, accel, opt.seed, opt.exclude_enclosed);
+    return {predict_gbuffer(model, enc, gb), predict_gbuffer_prior(enc, gb)};
 }
 
 // mean_k |a_k − f·b_k| / mean_k |f·b_k| over all channels.
@@ -94,28 +97,37 @@ PhysicsReport run_physics_checks(const std::vector<EvalScene> &scenes, std::vect
         const Color3d ref_base = reference(es.scene, ""), ref_recolored = n_recolored > 0 ? reference(recolored, "-recolored") : ref_base;
         for (auto &m : models) {
             m.fit_scene_points(es.scene);   // scaled twins keep its triangles, so its M
-            SceneCheck c;
-            c.scene = es.name, c.model = m.name, c.recolored_meshes = n_recolored;
-            const std::vector<Vec3f> base = predict(m.model, es.scene, gb, opt);
+            // Every prediction once; the model's checks read [0], its prior's (`model-prior:NAME`) [1].
+            const auto base = predict(m.model, es.scene, gb, opt);
+            std::vector<std::array<std::vector<Vec3f>, 2>> emitted, scaled;
             for (float k : opt.emission_factors) {
                 Scene s = es.scene;
                 scale_emission(s, k);
-                c.emission_error.emplace_back(k, relative_difference(predict(m.model, s, gb, opt), base, k));
+                emitted.push_back(predict(m.model, s, gb, opt));
             }
             for (float f : opt.length_factors) {
                 Scene s = es.scene;
                 scale_lengths(s, f);
                 GBuffer g = gb;   // the same surface points in the new unit
                 for (Vec3f &p : g.position) p = p * f;
-                c.length_error.emplace_back(f, relative_difference(predict(m.model, s, g, opt), base, 1.f));
+                scaled.push_back(predict(m.model, s, g, opt));
             }
-            c.model_base = mean_color(base);
-            c.model_recolored = n_recolored > 0 ? mean_color(predict(m.model, recolored, gb, opt)) : c.model_base;
-            c.ref_base = ref_base, c.ref_recolored = ref_recolored;
-            c.recolor_chroma_error = chroma_error(c.model_recolored, c.ref_recolored);
-            c.response_error = shift_error(c.model_base, c.model_recolored, c.ref_base, c.ref_recolored);
-            c.blue_share_model = blue_share(c.model_recolored), c.blue_share_ref = blue_share(c.ref_recolored);
-            report.scenes.push_back(std::move(c));
+            const auto recolored_prediction = n_recolored > 0 ? predict(m.model, recolored, gb, opt) : base;
+            for (size_t w = 0; w < 2; ++w) {
+                SceneCheck c;
+                c.scene = es.name, c.model = w == 0 ? m.name : "model-prior:" + m.name, c.recolored_meshes = n_recolored;
+                for (size_t i = 0; i < emitted.size(); ++i)
+                    c.emission_error.emplace_back(opt.emission_factors[i], relative_difference(emitted[i][w], base[w], opt.emission_factors[i]));
+                for (size_t i = 0; i < scaled.size(); ++i)
+                    c.length_error.emplace_back(opt.length_factors[i], relative_difference(scaled[i][w], base[w], 1.f));
+                c.model_base = mean_color(base[w]);
+                c.model_recolored = mean_color(recolored_prediction[w]);
+                c.ref_base = ref_base, c.ref_recolored = ref_recolored;
+                c.recolor_chroma_error = chroma_error(c.model_recolored, c.ref_recolored);
+                c.response_error = shift_error(c.model_base, c.model_recolored, c.ref_base, c.ref_recolored);
+                c.blue_share_model = blue_share(c.model_recolored), c.blue_share_ref = blue_share(c.ref_recolored);
+                report.scenes.push_back(std::move(c));
+            }
         }
     }
     // Furnace: every point sees E⁺ = π·Le·Σ_{k=1..D} ρ^k (render/path_tracer.h's depth convention).
@@ -127,7 +139,9 @@ PhysicsReport run_physics_checks(const std::vector<EvalScene> &scenes, std::vect
     for (int k = 1; k <= opt.furnace_bounces; ++k) series += (term *= double(opt.furnace_albedo));
     for (auto &m : models) {
         m.fit_scene_points(furnace);
-        report.furnace.push_back({m.name, luminance(mean_color(predict(m.model, furnace, fgb, opt))), double(k_pi) * series});
+        const auto e = predict(m.model, furnace, fgb, opt);
+        report.furnace.push_back({m.name, luminance(mean_color(e[0])), double(k_pi) * series});
+        report.furnace.push_back({"model-prior:" + m.name, luminance(mean_color(e[1])), double(k_pi) * series});
     }
     return report;
 }

@@ -100,6 +100,16 @@ RadianceEvalReport run_radiance_evaluation(const std::vector<EvalScene> &scenes,
                         add(row, traced.image.color, traced.timings.total, 0);
                     }
                 }
+                {
+                    // The model's own prior, the network silenced, at the pixels and the bounce's
+                    // hits: what the network adds to the rendered image is the model row against
+                    // this one. Its time leaves out the encoder (a prior needs none).
+                    NeuralRenderOptions po = no;
+                    po.prior_only = true;
+                    const NeuralRender prior = render_neural(models[mi].model, pt_neural, cam, po);
+                    add("model-prior:" + models[mi].name, prior.image.color,
+                        prior.timings.total - prior.timings.encode + prior.timings.prior_solve, 0);
+                }
                 if (models[mi].model->directional) {
                     // Conductors through the directional head (paper Fig. 11): the same render but
                     // for L⁺ along the GGX samples; the same image where the view shows no conductor.

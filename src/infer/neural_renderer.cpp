@@ -84,10 +84,12 @@ std::vector<Vec3f> rows_of(const torch::Tensor &e, int64_t n, const char *what) 
 }
 
 // Ê⁺ at the G-buffer hits listed in `hits` (all hits if null), in that order.
+// prior_only: the model's prior, the network silenced (no timings: not the decoder's).
 std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
-                                const std::vector<size_t> *hits, PredictTimings *timings) {
+                                const std::vector<size_t> *hits, PredictTimings *timings, bool prior_only = false) {
     const int64_t n = hits ? int64_t(hits->size()) : int64_t(gb.n_hits());
     if (n == 0) return {};
+    if (prior_only) return rows_of(model_prior_irradiance(enc.latents)(gbuffer_queries(gb, hits)), n, "predict_gbuffer: prior");
     PredictTimings t;
     const auto e = model->predict_irradiance(gbuffer_queries(gb, hits), enc.latents, 16384, &t);
     if (timings) timings->knn += t.knn, timings->decode += t.decode;
@@ -99,7 +101,7 @@ std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer 
     torch::NoGradGuard no_grad;
     const int64_t n = int64_t(gb.n_hits());
     if (n == 0) return {};
-    return rows_of(prior_irradiance(gbuffer_queries(gb, nullptr), enc.latents.norm), n, "predict_gbuffer_prior: prior");
+    return rows_of(model_prior_irradiance(enc.latents)(gbuffer_queries(gb, nullptr)), n, "predict_gbuffer_prior: prior");
 }
 
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {
@@ -109,15 +111,15 @@ std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, con
 
 std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
                                              const Camera &camera, const GiUpsampleOptions &opt, PredictTimings *timings,
-                                             int64_t *n_decoded) {
+                                             int64_t *n_decoded, bool prior_only) {
+    if (timings) *timings = {};
     if (opt.stride == 1) {
         if (n_decoded) *n_decoded = int64_t(gb.n_hits());
-        return predict_gbuffer(model, enc, gb, timings);
+        return predict_hits(model, enc, gb, nullptr, timings, prior_only);
     }
-    if (timings) *timings = {};
     const std::vector<size_t> lattice = lattice_hits(gb, opt.stride);
-    GiInterpolation r = interpolate_from_lattice(gb, camera, predict_hits(model, enc, gb, &lattice, timings), opt);
-    const std::vector<Vec3f> own = predict_hits(model, enc, gb, &r.needs_decode, timings);
+    GiInterpolation r = interpolate_from_lattice(gb, camera, predict_hits(model, enc, gb, &lattice, timings, prior_only), opt);
+    const std::vector<Vec3f> own = predict_hits(model, enc, gb, &r.needs_decode, timings, prior_only);
     for (size_t k = 0; k < own.size(); ++k) r.values[r.needs_decode[k]] = own[k];
     if (n_decoded) *n_decoded = int64_t(lattice.size() + r.needs_decode.size());
     return std::move(r.values);
@@ -125,7 +127,7 @@ std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene
 
 OrderedJson NeuralTimings::to_json() const {
     return {{"gbuffer_s", gbuffer}, {"sample_s", sample}, {"geometry_s", geometry}, {"encode_s", encode},
-            {"knn_s", knn},         {"decode_s", decode}, {"direct_s", direct},     {"glossy_s", glossy},
+            {"prior_solve_s", prior_solve}, {"knn_s", knn}, {"decode_s", decode}, {"direct_s", direct}, {"glossy_s", glossy},
             {"model_s", model()},   {"total_s", total}};
 }
 
@@ -247,7 +249,7 @@ std::vector<Vec3f> head_radiance(LtmModel &model, const EncodedScene &enc, const
 }
 
 // One traced bounce (GlossyShading::trace) along every row with a sample.  -> [H·K]
-std::vector<Vec3f> traced_radiance(LtmModel &model, const EncodedScene &enc, const PathTracer &pt, const GBuffer &gb,
+std::vector<Vec3f> traced_radiance(const IrradianceDecoder &decode, const EncodedScene &enc, const PathTracer &pt, const GBuffer &gb,
                                    const ConductorSamples &c, const DirectIrradianceFn &direct, BounceIrradiance bounce) {
     const size_t K = size_t(c.K), rows = c.hits.size() * K;
     std::vector<Ray> rays(rows, Ray{Vec3f(0.f), Vec3f(0.f)});   // zero direction: a failed sample, skipped
@@ -259,10 +261,10 @@ std::vector<Vec3f> traced_radiance(LtmModel &model, const EncodedScene &enc, con
     }
     std::optional<NodeIrradiance> nodes;
     if (bounce == BounceIrradiance::nodes) {
-        nodes = decode_node_irradiance(model, enc.latents, enc.points, enc.spacing);
+        nodes = decode_node_irradiance(decode, enc.points, enc.spacing);
         log_debug("traced bounce: Ê⁺ at the ", nodes->irradiance.size(), " scene points in ", nodes->seconds, " s");
     }
-    return traced_bounce_radiance(model, enc.latents, pt, rays, keys, direct, /*with_emission=*/false, nodes ? &*nodes : nullptr);
+    return traced_bounce_radiance(decode, pt, rays, keys, direct, /*with_emission=*/false, nodes ? &*nodes : nullptr);
 }
 
 // Writes Le + L_direct + (1/K) Σ weight · L⁺ at the conductor pixels.
@@ -284,12 +286,13 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     const auto t0 = Clock::now();
     const EncodedScene enc = encode_scene(model, pt.accel(), opt.seed, opt.exclude_enclosed);
     r.timings.sample = enc.sample_seconds, r.timings.geometry = enc.geometry_seconds, r.timings.encode = enc.encode_seconds;
+    r.timings.prior_solve = enc.latents.norm.solve_seconds;
     const auto t = Clock::now();
     const GBuffer gb = render_gbuffer(pt.accel(), camera);
     r.timings.gbuffer = seconds_since(t);
     PredictTimings pt_times;
     const Image indirect =
-        scatter_to_image(gb, predict_gbuffer_upsampled(model, enc, gb, camera, opt.gi, &pt_times, &r.n_decoded));
+        scatter_to_image(gb, predict_gbuffer_upsampled(model, enc, gb, camera, opt.gi, &pt_times, &r.n_decoded, opt.prior_only));
     r.timings.knn = pt_times.knn, r.timings.decode = pt_times.decode;
     r.direct = opt.direct;
     if (r.direct == DirectEstimator::automatic)
@@ -303,6 +306,8 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     GlossyShading glossy = opt.glossy == GlossyShading::automatic ? GlossyShading::trace : opt.glossy;
     if (glossy == GlossyShading::head && !model->directional)
         LTM_THROW("neural render: --glossy head needs a directional head, and these weights have none (use trace or diffuse)");
+    if (glossy == GlossyShading::head && opt.prior_only)
+        LTM_THROW("neural render: the prior alone has no directional head (use --glossy trace or diffuse)");
     if (r.n_conductor > 0 && glossy != GlossyShading::diffuse) {
         // 0: 64 traced samples (cheap: a ray, light samples, one fused Ê⁺ decode each), 16 through the
         // head (a libtorch decode each, ~10× a traced sample).
@@ -319,7 +324,8 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
             if (r.bounce == BounceIrradiance::automatic)
                 r.bounce = int64_t(c.hits.size()) * K >= k_bounce_nodes_per_point * enc.n_scene_points ? BounceIrradiance::nodes
                                                                                                         : BounceIrradiance::decode;
-            compose_conductors(gb, c, traced_radiance(model, enc, pt, gb, c, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, spp),
+            const IrradianceDecoder decode = opt.prior_only ? model_prior_irradiance(enc.latents) : model_irradiance(model, enc.latents);
+            compose_conductors(gb, c, traced_radiance(decode, enc, pt, gb, c, direct_irradiance_fn(pt, ratio ? &*ratio : nullptr, spp),
                                                r.bounce),
                                r.image);
         }

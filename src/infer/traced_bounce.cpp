@@ -21,7 +21,21 @@ DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectL
     return [&pt, spp](Vec3f p, Vec3f n, uint64_t key) { return pt.irradiance(p, n, key, spp, /*with_indirect=*/false).direct; };
 }
 
-NodeIrradiance decode_node_irradiance(LtmModel &model, const SceneLatents &latents, const PointSet &points, float spacing) {
+IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents) {
+    return [&model, &latents](const torch::Tensor &q) {
+        torch::NoGradGuard no_grad;
+        return model->predict_irradiance(q, latents, 16384);
+    };
+}
+
+IrradianceDecoder model_prior_irradiance(const SceneLatents &latents) {
+    return [&latents](const torch::Tensor &q) {
+        torch::NoGradGuard no_grad;
+        return prior_irradiance(q, latents.norm);
+    };
+}
+
+NodeIrradiance decode_node_irradiance(const IrradianceDecoder &decode, const PointSet &points, float spacing) {
     const auto t = std::chrono::steady_clock::now();
     const size_t m = points.size();
     if (m == 0 || points.n_columns() < 9) LTM_THROW("node irradiance: needs scene points with p, n, albedo columns, got ", m, " × ", points.n_columns());
@@ -37,7 +51,8 @@ NodeIrradiance decode_node_irradiance(LtmModel &model, const SceneLatents &laten
     const std::vector<uint32_t> order = PriorTree::group_order(q.data(), q.data() + 3, 9, m);
     std::vector<float> ordered(m * 9);
     for (size_t k = 0; k < m; ++k) std::copy_n(&q[size_t(order[k]) * 9], 9, &ordered[k * 9]);
-    const auto e = model->predict_irradiance(rows_tensor(ordered, 9), latents, 16384).contiguous();
+    const auto e = decode(rows_tensor(ordered, 9)).to(torch::kCPU, torch::kFloat32).contiguous();
+    TORCH_CHECK(e.sizes() == torch::IntArrayRef({int64_t(m), 3}), "node irradiance: the decoder returned ", e.sizes());
     const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
     nodes.irradiance.assign(m, Vec3f(0.f));
     for (size_t k = 0; k < m; ++k) nodes.irradiance[order[k]] = ep[k];
@@ -45,7 +60,7 @@ NodeIrradiance decode_node_irradiance(LtmModel &model, const SceneLatents &laten
     return nodes;
 }
 
-std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &latents, const PathTracer &pt,
+std::vector<Vec3f> traced_bounce_radiance(const IrradianceDecoder &decode, const PathTracer &pt,
                                           const std::vector<Ray> &rays, const std::vector<uint64_t> &keys,
                                           const DirectIrradianceFn &direct, bool with_emission, const NodeIrradiance *nodes) {
     LTM_CHECK_EQ(rays.size(), keys.size());
@@ -98,7 +113,8 @@ std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &l
     std::vector<float> q;
     for (uint32_t k : order)
         at.push_back(hits[k]), q.insert(q.end(), rows.begin() + std::ptrdiff_t(size_t(k) * 9), rows.begin() + std::ptrdiff_t(size_t(k) * 9 + 9));
-    const auto e = model->predict_irradiance(rows_tensor(q, 9), latents, 16384).contiguous();
+    const auto e = decode(rows_tensor(q, 9)).to(torch::kCPU, torch::kFloat32).contiguous();
+    TORCH_CHECK(e.sizes() == torch::IntArrayRef({int64_t(at.size()), 3}), "traced bounce: the decoder returned ", e.sizes());
     const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
     for (size_t k = 0; k < at.size(); ++k) {
         const float *row = &q[k * 9];

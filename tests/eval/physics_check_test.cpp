@@ -33,9 +33,15 @@ TEST(PhysicsCheck, ExactModelPassesLegacyFailsRecolourTurnsBlue) {
     opt.ref_spp = 8;
     opt.length_factors = {0.5f, 4.f};
     const PhysicsReport r = run_physics_checks(scenes, models, opt);
-    ASSERT_EQ(r.scenes.size(), 2u);
-    const SceneCheck &exact = r.scenes[0], &legacy = r.scenes[1];
+    // Each model, then its own prior (the network silenced) from the same encodes.
+    ASSERT_EQ(r.scenes.size(), 4u);
+    const SceneCheck &exact = r.scenes[0], &exact_prior = r.scenes[1], &legacy = r.scenes[2];
+    EXPECT_EQ(exact_prior.model, "model-prior:exact");
+    EXPECT_EQ(r.scenes[3].model, "model-prior:v03");
     for (const auto &[k, err] : exact.emission_error) EXPECT_LT(err, 1e-6) << k;
+    for (const auto &[k, err] : exact_prior.emission_error) EXPECT_LT(err, 1e-6) << k;
+    for (const auto &[s, err] : exact_prior.length_error) EXPECT_LT(err, 0.05) << s;
+    EXPECT_NE(exact_prior.model_base, exact.model_base) << "the random network moves its prior";
     // The whole pipeline, resampling included: the scaled twin's scene points are not the same
     // points scaled (the enclosed-surface filter's ray offset has an absolute term, and FPS is a
     // chain of argmax decisions), so this random model moves by ~1 %; v0.3's configuration by ~20 %.
@@ -47,11 +53,14 @@ TEST(PhysicsCheck, ExactModelPassesLegacyFailsRecolourTurnsBlue) {
     EXPECT_GT(legacy_length, 0.1);
     EXPECT_GT(exact.recolored_meshes, 0);
     EXPECT_GT(exact.blue_share_ref, blue_share(exact.ref_base) + 0.1);   // the reference turns blue
-    ASSERT_EQ(r.furnace.size(), 2u);
+    ASSERT_EQ(r.furnace.size(), 4u);
+    EXPECT_EQ(r.furnace[1].model, "model-prior:exact");
+    EXPECT_TRUE(std::isfinite(r.furnace[1].predicted));
     EXPECT_NEAR(r.furnace[0].closed_form, k_pi * (0.5 + 0.25 + 0.125 + 0.0625 + 0.03125), 1e-5);
     EXPECT_TRUE(std::isfinite(r.furnace[0].predicted));
     const std::string md = r.table_markdown();
     EXPECT_NE(md.find("| exact | 1 |"), std::string::npos) << md;
+    EXPECT_NE(md.find("| model-prior:exact | 1 |"), std::string::npos) << md;
     EXPECT_TRUE(r.to_json()["scenes"][0].contains("emission_error"));
 }
 

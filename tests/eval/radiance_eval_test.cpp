@@ -59,14 +59,17 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
     EXPECT_EQ(r.conductor_pixels, n_conductor);
     EXPECT_EQ(r.conductors.views[0].pixels, n_conductor);
     const ViewResult &all = r.all.views[0], &cond = r.conductors.views[0];
-    for (const char *m : {"model:tiny", "model:tiny/bounce-decode", "model:tiny/head-conductors", "model:tiny/diffuse-conductors", "pt4",
-                          "pt-equal-time", "flat-oracle"}) {
+    for (const char *m : {"model:tiny", "model:tiny/bounce-decode", "model-prior:tiny", "model:tiny/head-conductors",
+                          "model:tiny/diffuse-conductors", "pt4", "pt-equal-time", "flat-oracle"}) {
         for (const ViewResult *v : {&all, &cond}) {
             const MethodResult &x = row(*v, m);
             EXPECT_TRUE(std::isfinite(x.metrics.mse) && std::isfinite(x.metrics.rel_mse) && std::isfinite(x.field.level_ratio)) << m;
         }
     }
     EXPECT_NEAR(row(all, "flat-oracle").field.level_ratio, 1.0, 1e-6);
+    // The random network moves its prior, at the pixels and on the conductors.
+    EXPECT_NE(row(all, "model-prior:tiny").metrics.mse, row(all, "model:tiny").metrics.mse);
+    EXPECT_NE(row(cond, "model-prior:tiny").metrics.mse, row(cond, "model:tiny").metrics.mse);
     EXPECT_GT(row(all, "pt-equal-time").spp, 0);
     // The traced bounce and the head change only conductor pixels: (MSE_all(x) − MSE_all(diffuse)) ·
     // N_pixels equals (MSE_cond(x) − MSE_cond(diffuse)) · N_conductor, with N_pixels the whole image.

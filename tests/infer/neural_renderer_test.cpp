@@ -120,6 +120,41 @@ TEST(NeuralRenderer, ComposesDirectAndPredictedIrradiance) {
     EXPECT_GE(r.timings.total, r.timings.encode + r.timings.decode);
 }
 
+// prior_only renders the model's prior where the render reads Ê⁺: predict_gbuffer_prior's values,
+// bit for bit, at every pixel and on a lattice (--gi-stride 2) where it is decoded; the random
+// network's render is another image.
+TEST(NeuralRenderer, PriorOnlyRenderIsTheModelsOwnPrior) {
+    Room room;
+    const Camera cam = Room::view(20);
+    NeuralRenderOptions opt;
+    opt.direct_spp = 4, opt.seed = 2, opt.direct = DirectEstimator::mis, opt.prior_only = true;
+    const NeuralRender r = render_neural(room.model, room.pt, cam, opt);
+    const GBuffer gb = render_gbuffer(room.accel, cam);
+    const auto prior = predict_gbuffer_prior(encode_scene(room.model, room.accel, 2), gb);
+    const auto pred = predict_gbuffer(room.model, encode_scene(room.model, room.accel, 2), gb);
+    int differ = 0;
+    for (size_t k = 0; k < gb.n_hits(); ++k) {
+        const size_t i = size_t(gb.hit_pixels[k]);
+        EXPECT_EQ(r.image.irradiance.pixels[i], prior[k]) << "pixel " << i;
+        differ += prior[k] != pred[k];
+    }
+    EXPECT_GT(differ, int(gb.n_hits()) / 2);
+    EXPECT_GE(r.timings.prior_solve, 0.0);   // 0 for the tiny config's flat prior
+    EXPECT_LE(r.timings.prior_solve, r.timings.encode);
+    opt.gi.stride = 2;
+    const NeuralRender lattice = render_neural(room.model, room.pt, cam, opt);
+    int on_lattice = 0, decoded_same = 0;
+    for (size_t k = 0; k < gb.n_hits(); ++k) {
+        const int64_t px = gb.hit_pixels[k];
+        if ((px % cam.width) % 2 != 0 || (px / cam.width) % 2 != 0) continue;
+        ++on_lattice, decoded_same += lattice.image.irradiance.pixels[size_t(px)] == prior[k];
+    }
+    EXPECT_GT(on_lattice, 50);
+    EXPECT_EQ(decoded_same, on_lattice) << "each gathered query's value does not depend on its company";
+    opt.glossy = GlossyShading::head;
+    EXPECT_THROW(render_neural(room.model, room.pt, cam, opt), Error);
+}
+
 // F16 export halves the file and predicts within half precision of the F32 weights.
 TEST(NeuralRenderer, HalfWeightsLoadAndPredictClose) {
     test::TempDir dir;

@@ -7,6 +7,8 @@
 //   model:NAME/bounce-decode (/bounce-nodes with `bounce` decode)   the same render with Ê⁺ at
 //                  the bounce's hits decoded at each (interpolated from the scene points): what
 //                  interpolating costs in accuracy, and what it saves in time;
+//   model-prior:NAME   the same render with the model's own prior wherever it reads Ê⁺ (pixels,
+//                  bounce hits): the network silenced, as `ltm eval`'s E⁺ table has it;
 //   model:NAME/head-conductors   the same with the directional head's L̂⁺ along the GGX samples
 //                  (paper Fig. 11; only for weights that carry a head);
 //   model:NAME/diffuse-conductors   the traced render's E_direct and Ê⁺ with conductors shaded as

@@ -74,10 +74,12 @@ std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, con
 /// `ltm eval`: what the network adds is the model row against this one.  -> one Vec3f per hit.
 std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer &gb);
 /// The same, decoded on a pixel lattice and interpolated (render/gi_upsample.h); opt.stride 1 is
-/// predict_gbuffer. n_decoded receives the number of queries actually decoded.
+/// predict_gbuffer. n_decoded receives the number of queries actually decoded. prior_only: the
+/// model's prior at those queries instead (predict_gbuffer_prior's values).
 std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
                                              const Camera &camera, const GiUpsampleOptions &opt,
-                                             PredictTimings *timings = nullptr, int64_t *n_decoded = nullptr);
+                                             PredictTimings *timings = nullptr, int64_t *n_decoded = nullptr,
+                                             bool prior_only = false);
 
 enum class DirectEstimator {
     mis,     ///< the path tracer's unbiased estimator (light + cosine samples, MIS)
@@ -123,6 +125,7 @@ const char *bounce_irradiance_name(BounceIrradiance b);
 struct NeuralTimings {
     double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
     double glossy = 0;   ///< conductor pixels (direct light + L⁺ by the GlossyShading used)
+    double prior_solve = 0;   ///< of encode: the transport prior's solve (the rest is the encoder, when it runs)
     /// The model's own cost: everything but the G-buffer and direct light (which any renderer pays).
     double model() const { return sample + geometry + encode + knn + decode; }
     OrderedJson to_json() const;
@@ -152,6 +155,9 @@ struct NeuralRenderOptions {
     GlossyShading glossy = GlossyShading::automatic;
     int glossy_samples = 0;
     BounceIrradiance bounce = BounceIrradiance::automatic;   ///< `trace`: Ê⁺ at the bounce's hits
+    /// The model's own prior, the network silenced, wherever the render reads Ê⁺ (pixels and the
+    /// bounce's hits): `eval --radiance`'s model-prior rows. `head` throws (the head is a network).
+    bool prior_only = false;
 };
 /// The whole neural render of one view.
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);

@@ -29,6 +29,14 @@ using DirectIrradianceFn = std::function<Vec3f(Vec3f p, Vec3f n, uint64_t key)>;
 /// samples per call.
 DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectLight *ratio, int spp);
 
+/// Ê⁺ at query rows (p, n on the side the light is wanted, albedo), raw units: what the bounce
+/// reads at its diffuse hits.   query_points [n, 9] -> [n, 3] (W/m²)
+using IrradianceDecoder = std::function<torch::Tensor(const torch::Tensor &query_points)>;
+/// The model's irradiance head (LtmModelImpl::predict_irradiance, no autograd).
+IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents);
+/// The model's prior alone, the network silenced (prior_irradiance): the `model-prior` rows.
+IrradianceDecoder model_prior_irradiance(const SceneLatents &latents);
+
 /// Ê⁺ decoded once at the M scene points (each point its own query: p, n, albedo) for the bounce's
 /// hits to interpolate (PointInterpolator) instead of decoding each: a gather of the prior costs
 /// ~50× an interpolation, and a conductor pixel asks for 64 hits.
@@ -37,18 +45,18 @@ struct NodeIrradiance {
     std::vector<Vec3f> irradiance;   ///< [M] Ê⁺ at the scene points (W/m²)
     double seconds = 0;              ///< the decode at the points
 };
-/// points: the scene points the latents were encoded from ([M, 12] scene_point_columns(), raw);
-/// spacing: their mean spacing √(A/M) in metres.
-NodeIrradiance decode_node_irradiance(LtmModel &model, const SceneLatents &latents, const PointSet &points, float spacing);
+/// points: the scene points the decoder's scene was encoded from ([M, 12] scene_point_columns(),
+/// raw); spacing: their mean spacing √(A/M) in metres.
+NodeIrradiance decode_node_irradiance(const IrradianceDecoder &decode, const PointSet &points, float spacing);
 
 /// L⁺ along n rays (origin offset off a surface, unit direction; a zero direction: the row is
-/// skipped and gets 0), for a scene encoded into `latents` and traced by `pt` (the same scene).
+/// skipped and gets 0), for a scene whose Ê⁺ `decode` gives and that `pt` traces (the same scene).
 /// with_emission: L_in instead, the hit surface's emission towards the ray's origin added.
 /// keys[i]: row i's random stream (direct light at its hit, the path beyond a conductor).
 /// Ê⁺ of every diffuse hit is decoded in one batch; with `nodes`, interpolated from them instead,
 /// and decoded only where no scene point lies on the hit's surface nearby. -> [n] radiance
 /// (W/m²/sr per channel). Deterministic at any thread count.
-std::vector<Vec3f> traced_bounce_radiance(LtmModel &model, const SceneLatents &latents, const PathTracer &pt,
+std::vector<Vec3f> traced_bounce_radiance(const IrradianceDecoder &decode, const PathTracer &pt,
                                           const std::vector<Ray> &rays, const std::vector<uint64_t> &keys,
                                           const DirectIrradianceFn &direct, bool with_emission = false,
                                           const NodeIrradiance *nodes = nullptr);
