@@ -43,6 +43,14 @@ struct Room {
     /// The render tests' view: size×size pixels of the floor, the box and the walls.
     static Camera view(int size) { return looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.8f, 1.5f}, size); }
 };
+// The built-in room with its first mesh (a wall) turned into a GGX conductor: the glossy tests' scene.
+Scene room_with_metal() {
+    Scene scene = load_scene("builtin:quad-light-room");
+    Material metal;
+    metal.name = "metal", metal.bsdf = BsdfKind::conductor, metal.roughness = 0.1f, metal.specular = Vec3f(0.9f, 0.6f, 0.3f);
+    scene.meshes[0].material = scene.add_material(metal);   // one of the room's surfaces becomes a GGX conductor
+    return scene;
+}
 }  // namespace
 
 // The same world-space point seen from two cameras gets the same prediction: the model's input is
@@ -269,11 +277,7 @@ TEST(NeuralRenderer, CentimetreZUpTwinPredictsWhatTheMetricSceneDoes) {
 // indirect part from the head's L̂⁺ in GGX-sampled directions. Diffuse pixels are untouched, the
 // conductor pixels are finite and non-negative, and the whole image is linear in emission.
 TEST(NeuralRenderer, ConductorsAreShadedWithTheDirectionalHead) {
-    Scene scene = load_scene("builtin:quad-light-room");
-    Material metal;
-    metal.name = "metal", metal.bsdf = BsdfKind::conductor, metal.roughness = 0.1f, metal.specular = Vec3f(0.9f, 0.6f, 0.3f);
-    const int mi = scene.add_material(metal);
-    scene.meshes[0].material = mi;   // one of the room's surfaces becomes a GGX conductor
+    const Scene scene = room_with_metal();
     ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
     DirectionalConfig d;
     d.dim = 16, d.groups = 4, d.n_layers = 1, d.direction_frequencies = 2, d.bin_resolution = 4;
@@ -339,10 +343,7 @@ TEST(NeuralRenderer, ConductorsAreShadedWithTheDirectionalHead) {
 // mean over the conductor pixels within their noise; the render is linear in emission, needs no
 // directional head, and leaves diffuse pixels as they were.
 TEST(NeuralRenderer, TracedConductorsAreTwoBouncePathTracingWhenThereIsNoIndirectLight) {
-    Scene scene = load_scene("builtin:quad-light-room");
-    Material metal;
-    metal.name = "metal", metal.bsdf = BsdfKind::conductor, metal.roughness = 0.1f, metal.specular = Vec3f(0.9f, 0.6f, 0.3f);
-    scene.meshes[0].material = scene.add_material(metal);
+    Scene scene = room_with_metal();
     LtmModel model = tiny_model();
     {
         torch::NoGradGuard g;
@@ -423,10 +424,7 @@ TEST(NeuralRenderer, TracedConductorsAreTwoBouncePathTracingWhenThereIsNoIndirec
 // default) against Ê⁺ decoded at each hit: diffuse pixels are the same bits, conductor pixels
 // differ only in that term, by a few per cent of their radiance, and the interpolation did run.
 TEST(NeuralRenderer, BounceIrradianceFromTheScenePointsIsCloseToDecodingEachHit) {
-    Scene scene = load_scene("builtin:quad-light-room");
-    Material metal;
-    metal.name = "metal", metal.bsdf = BsdfKind::conductor, metal.roughness = 0.1f, metal.specular = Vec3f(0.9f, 0.6f, 0.3f);
-    scene.meshes[0].material = scene.add_material(metal);
+    Scene scene = room_with_metal();
     LtmModel model = tiny_model();
     const EmbreeAccel accel(scene);
     const PathTracer pt(accel, PathTracerConfig{});
