@@ -444,7 +444,7 @@ template <class Sink> struct PriorTree::Terms {
                     const float r = std::sqrt(r2[l]);
                     if (r < near_reach) {
                         const float beta = std::clamp((r - 1.5f * side) / side, 0.f, 1.f);
-                        const float patch = patch_form_factor(q.p(l), q.n(l), tree.m_pos[j], tree.m_nrm[j], side) * scale;
+                        const float patch = near_form_factor(q.p(l), q.n(l), tree.m_pos[j], tree.m_nrm[j], side) * scale;
                         tl = (1.f - beta) * patch + beta * tl;
                     }
                 }

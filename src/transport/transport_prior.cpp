@@ -169,7 +169,7 @@ void near_field(const NearNodes &near, const std::vector<Vec3f> &pos, const std:
         const float r = length(pos[j] - p);
         if (!(r < 2.5f * s) || !seen(j)) return;
         const float beta = std::clamp((r - 1.5f * s) / s, 0.f, 1.f);
-        const float patch = patch_form_factor(p, n, pos[j], nrm[j], s) * scale;
+        const float patch = near_form_factor(p, n, pos[j], nrm[j], s) * scale;
         row[j] = (1.f - beta) * patch + beta * row[j];
     });
 }

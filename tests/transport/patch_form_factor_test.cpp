@@ -79,6 +79,18 @@ TEST(PatchFormFactor, ConcaveEdgeLimitAndBackFace) {
     EXPECT_EQ(patch_form_factor(Vec3f(0.f), up, Vec3f(0.f, -1.f, 0.f), up, 1.f), 0.f) << "below the horizon";
 }
 
+// The prior's near-field term: a node centred behind the receiver's plane gets nothing even where its
+// square reaches over the horizon (a floor node under a wall, seen from the wall's foot: the square
+// alone would give it a share), and in front of it the term is the square's form factor.
+TEST(PatchFormFactor, NearTermIgnoresNodesCentredBehindTheReceiver) {
+    const Vec3f wall_p(0.f, 0.02f, 0.f), wall_n(1.f, 0.f, 0.f), up(0.f, 1.f, 0.f);
+    const Vec3f under_wall(-0.13f, 0.f, 0.f), in_front(0.13f, 0.f, 0.f);   // floor nodes, squares of side 0.665
+    EXPECT_GT(patch_form_factor(wall_p, wall_n, under_wall, up, 0.665f), 0.05f) << "the square reaches out from under the wall";
+    EXPECT_EQ(near_form_factor(wall_p, wall_n, under_wall, up, 0.665f), 0.f);
+    EXPECT_GT(near_form_factor(wall_p, wall_n, in_front, up, 0.665f), 0.1f);
+    EXPECT_EQ(near_form_factor(wall_p, wall_n, in_front, up, 0.665f), patch_form_factor(wall_p, wall_n, in_front, up, 0.665f));
+}
+
 // Quarter turns about ŷ, a mirror in x and a change of unit map the patch's frame with the scene.
 TEST(PatchFormFactor, FollowsTheTrainingSymmetriesAndTheUnit) {
     std::mt19937 rng(7);

@@ -25,4 +25,13 @@ namespace ltm {
 /// unit normal nc (frame in the header): in [0, 1]. 0 when p is behind the square's plane or in it.
 float patch_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side);
 
+/// The prior's near-field term: patch_form_factor, but 0 when the node's centre lies on or behind
+/// the receiver's plane (n·(c − p) ≤ 0), as the point formula beyond the near field gives it. Such a
+/// node's square reaches over the horizon only where other nodes stand for the surface: a floor
+/// point under a wall lit the wall's foot and the door jamb from the next room in veach-ajar
+/// (docs/results.md, session 26), a side face's node lit a top face near its edge.
+inline float near_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side) {
+    return dot(n, c - p) > 0.f ? patch_form_factor(p, n, c, nc, side) : 0.f;
+}
+
 }  // namespace ltm
