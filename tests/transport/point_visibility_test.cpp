@@ -416,8 +416,8 @@ TEST(PointVisibility, ClosureOfAnOpenBoxIsOneMinusTheFormFactorOfItsOpening) {
         ASSERT_EQ(c.size(), 2u);
         const double x = 0.5, f = 4.0 / k_pi * x / std::sqrt(1 + x * x) * std::atan(x / std::sqrt(1 + x * x));
         EXPECT_NEAR(c[0], open ? 1.0 - f : 1.0, 0.015) << (open ? "open" : "closed");
-        if (!open) EXPECT_NEAR(c[1], 1.0, 0.01) << "a wall point near the floor";
-        if (open) EXPECT_LT(c[1], 0.97f) << "a wall point sees the opening too";
+        if (!open) { EXPECT_NEAR(c[1], 1.0, 0.01) << "a wall point near the floor"; }
+        if (open) { EXPECT_LT(c[1], 0.97f) << "a wall point sees the opening too"; }
     }
     ClusterVisibility none;
     none.position = {Vec3f(0.f)}, none.normal = {Vec3f(0, 1, 0)};

@@ -188,7 +188,7 @@ TEST(TransportPrior, RadianceCellsSplitTheIrradianceByDirection) {
                 for (int b = 0; b < R * R; ++b) sum += double(l[(i * size_t(R * R) + size_t(b)) * 3 + size_t(ch)]);
                 EXPECT_NEAR(k_pi / double(R * R) * sum, double(e[i * 3 + size_t(ch)]), 1e-5 * (1.0 + double(e[i * 3 + size_t(ch)])))
                     << "R " << R << " receiver " << i << " channel " << ch;
-                if (R == 1) EXPECT_NEAR(l[i * 3 + size_t(ch)], e[i * 3 + size_t(ch)] / k_pi, 1e-6) << "one cell: uniform";
+                if (R == 1) { EXPECT_NEAR(l[i * 3 + size_t(ch)], e[i * 3 + size_t(ch)] / k_pi, 1e-6) << "one cell: uniform"; }
             }
         if (R != 8) continue;
         // Receiver 1, mid-floor: toward +x (away from the wall) the red channel is 0; toward the
@@ -198,7 +198,7 @@ TEST(TransportPrior, RadianceCellsSplitTheIrradianceByDirection) {
         for (int b = 0; b < 64; ++b) {
             const Vec3f d = dirs[64 + size_t(b)];
             const float red = l[(64 + size_t(b)) * 3], green = l[(64 + size_t(b)) * 3 + 1];
-            if (d.x > 0.3f) EXPECT_EQ(red, 0.f) << "cell " << b;
+            if (d.x > 0.3f) { EXPECT_EQ(red, 0.f) << "cell " << b; }
             if (d.x < -0.8f) toward += red, ++n_toward;
             EXPECT_GT(green, 0.f) << "cell " << b;
         }
