@@ -21,15 +21,16 @@ DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectL
     return [&pt, spp](Vec3f p, Vec3f n, uint64_t key) { return pt.irradiance(p, n, key, spp, /*with_indirect=*/false).direct; };
 }
 
+// By value: a module holder and tensors are cheap to copy, and the decoder may outlive its arguments.
 IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents) {
-    return [&model, &latents](const torch::Tensor &q) {
+    return [model, latents](const torch::Tensor &q) mutable {
         torch::NoGradGuard no_grad;
         return model->predict_irradiance(q, latents, 16384);
     };
 }
 
 IrradianceDecoder model_prior_irradiance(const SceneLatents &latents) {
-    return [&latents](const torch::Tensor &q) {
+    return [latents](const torch::Tensor &q) {
         torch::NoGradGuard no_grad;
         return prior_irradiance(q, latents.norm);
     };

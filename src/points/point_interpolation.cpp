@@ -14,6 +14,8 @@ PointInterpolator::PointInterpolator(std::vector<Vec3f> positions, std::vector<V
     if (m_position.size() != m_normal.size())
         LTM_THROW("point interpolation: ", m_position.size(), " positions but ", m_normal.size(), " normals");
     if (!(spacing > 0.f) || !std::isfinite(spacing)) LTM_THROW("point interpolation: spacing must be > 0, got ", spacing);
+    for (const Vec3f &n : m_normal)
+        if (!is_finite(n)) LTM_THROW("point interpolation: a normal is not finite: ", n);
     m_grid = PointGrid(m_position, spacing);
 }
 
@@ -25,9 +27,10 @@ bool PointInterpolator::interpolate(Vec3f p, Vec3f n, const Vec3f *values, Vec3f
     // While fewer than K qualify, the search radius is the bound: the rings stop past r.
     auto kth = [&] { return count < k_neighbours ? r2 : best[k_neighbours - 1].first; };
     m_grid.visit_nearest(p, [&](uint32_t j) {
-        if (dot(m_normal[j], n) < k_min_facing) return;
+        // Written so that a NaN normal qualifies nothing (a query with one is a bug upstream).
+        if (!(dot(m_normal[j], n) >= k_min_facing)) return;
         const Vec3f d = m_position[j] - p;
-        if (std::abs(dot(d, n)) > plane) return;
+        if (!(std::abs(dot(d, n)) <= plane)) return;
         const float d2 = dot(d, d);
         if (!(d2 < r2)) return;
         const std::pair<float, uint32_t> item{d2, j};

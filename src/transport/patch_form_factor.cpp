@@ -52,4 +52,10 @@ float patch_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side) {
     return std::min(1.f, std::abs(sum) / (2.f * float(k_pi)));
 }
 
+// Out of line: the dense rows (transport_prior.cpp) and the tree (prior_hierarchy.cpp, built without
+// FMA contraction) call one compiled copy of the gate.
+float near_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side) {
+    return dot(n, c - p) > 0.f ? patch_form_factor(p, n, c, nc, side) : 0.f;
+}
+
 }  // namespace ltm

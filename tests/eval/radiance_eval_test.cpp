@@ -47,7 +47,7 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
     }
     RadianceEvalOptions opt;
     opt.base.width = opt.base.height = 24, opt.base.ref_spp = 16, opt.base.baseline_spp = 4;
-    opt.direct_spp = 4, opt.glossy_samples = 4;
+    opt.direct_spp = 4, opt.glossy_samples = 4, opt.bounce = BounceIrradiance::nodes;
     const RadianceEvalReport r = run_radiance_evaluation({{"room", scene}}, models, opt);
     ASSERT_EQ(r.all.views.size(), 1u);
     ASSERT_EQ(r.conductors.views.size(), 1u);
@@ -80,9 +80,9 @@ TEST(RadianceEval, ConductorTableIsTheWholeImagesErrorOnConductorPixels) {
         EXPECT_GT(std::abs(d_cond), 1e-6) << m;
         EXPECT_NEAR(d_all, d_cond, 1e-6 * n_pixels) << m;
     }
-    // The bounce's hits: the /bounce-decode row (decoded at each hit) is the model row of
-    // --bounce-irradiance decode, whose own extra row is the render here (auto: interpolated from
-    // the points, the bounce having more than 2·M rays) and another image.
+    // The bounce's hits (opt.bounce nodes, set above): the /bounce-decode row (decoded at each hit)
+    // is the model row of --bounce-irradiance decode, whose own extra row is the render here
+    // (interpolated from the points) and another image.
     RadianceEvalOptions decode = opt;
     decode.bounce = BounceIrradiance::decode;
     const RadianceEvalReport rd = run_radiance_evaluation({{"room", scene}}, models, decode);

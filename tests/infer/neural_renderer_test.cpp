@@ -2,10 +2,13 @@
 // weights: view consistency, batch independence, composition, and direct light = the PT estimator.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "ltm/core/color.h"
 #include "ltm/core/error.h"
 #include "ltm/core/rng.h"
 #include "ltm/infer/neural_renderer.h"
+#include "ltm/infer/traced_bounce.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/interaction.h"
@@ -133,24 +136,38 @@ TEST(NeuralRenderer, ComposesDirectAndPredictedIrradiance) {
 // network's render is another image.
 TEST(NeuralRenderer, PriorOnlyRenderIsTheModelsOwnPrior) {
     Room room;
+    // A transport prior (tiny-pi: its Ê⁺ varies over the view, unlike the tiny config's flat one)
+    // under a random network with a directional head.
+    ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny-pi.json"));
+    DirectionalConfig d;
+    d.dim = 16, d.groups = 4, d.n_layers = 1, d.direction_frequencies = 2, d.bin_resolution = 4;
+    cfg.directional = d;
+    torch::manual_seed(5);
+    LtmModel model(cfg);
+    {
+        torch::NoGradGuard g;
+        for (auto &p : model->parameters()) p.add_(torch::randn_like(p) * 0.2);
+        model->eval();
+    }
     const Camera cam = Room::view(20);
     NeuralRenderOptions opt;
     opt.direct_spp = 4, opt.seed = 2, opt.direct = DirectEstimator::mis, opt.prior_only = true;
-    const NeuralRender r = render_neural(room.model, room.pt, cam, opt);
+    const NeuralRender r = render_neural(model, room.pt, cam, opt);
     const GBuffer gb = render_gbuffer(room.accel, cam);
-    const auto prior = predict_gbuffer_prior(encode_scene(room.model, room.accel, 2), gb);
-    const auto pred = predict_gbuffer(room.model, encode_scene(room.model, room.accel, 2), gb);
-    int differ = 0;
+    const auto prior = predict_gbuffer_prior(encode_scene(model, room.accel, 2), gb);
+    const auto pred = predict_gbuffer(model, encode_scene(model, room.accel, 2), gb);
+    int differ = 0, varies = 0;
     for (size_t k = 0; k < gb.n_hits(); ++k) {
         const size_t i = size_t(gb.hit_pixels[k]);
         EXPECT_EQ(r.image.irradiance.pixels[i], prior[k]) << "pixel " << i;
-        differ += prior[k] != pred[k];
+        differ += prior[k] != pred[k], varies += prior[k] != prior[0];
     }
-    EXPECT_GT(differ, int(gb.n_hits()) / 2);
-    EXPECT_GE(r.timings.prior_solve, 0.0);   // 0 for the tiny config's flat prior
+    EXPECT_GT(differ, int(gb.n_hits()) / 2) << "the random network moves its prior";
+    EXPECT_GT(varies, int(gb.n_hits()) / 2) << "a prior that varies: a mix-up of pixels would show";
+    EXPECT_GT(r.timings.prior_solve, 0.0);
     EXPECT_LE(r.timings.prior_solve, r.timings.encode);
     opt.gi.stride = 2;
-    const NeuralRender lattice = render_neural(room.model, room.pt, cam, opt);
+    const NeuralRender lattice = render_neural(model, room.pt, cam, opt);
     int on_lattice = 0, decoded_same = 0;
     for (size_t k = 0; k < gb.n_hits(); ++k) {
         const int64_t px = gb.hit_pixels[k];
@@ -159,8 +176,53 @@ TEST(NeuralRenderer, PriorOnlyRenderIsTheModelsOwnPrior) {
     }
     EXPECT_GT(on_lattice, 50);
     EXPECT_EQ(decoded_same, on_lattice) << "each gathered query's value does not depend on its company";
-    opt.glossy = GlossyShading::head;
-    EXPECT_THROW(render_neural(room.model, room.pt, cam, opt), Error);
+    opt.glossy = GlossyShading::head;   // the model has a head; its prior has none
+    EXPECT_THROW(render_neural(model, room.pt, cam, opt), Error);
+    opt.prior_only = false;
+    EXPECT_NO_THROW(render_neural(model, room.pt, cam, opt));
+}
+
+// The node field holds each scene point's own decoded value: a decoder that answers each query
+// row with its position gives every point its own position back (the group_order permutation
+// and its inverse), and a point set without the query columns is refused.
+TEST(NeuralRenderer, NodeIrradianceIsEachPointsOwnDecode) {
+    PointSet points(scene_point_columns(), 300);
+    Pcg32 rng(17);
+    for (size_t j = 0; j < points.size(); ++j) {
+        points.set_vec3(j, 0, Vec3f(rng.next_float(), rng.next_float(), rng.next_float()) * 4.f);
+        points.set_vec3(j, 3, normalize(Vec3f(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f)));
+        points.set_vec3(j, 6, Vec3f(0.5f));
+    }
+    const IrradianceDecoder echo = [](const torch::Tensor &q) { return q.slice(1, 0, 3).clone(); };
+    const NodeIrradiance nodes = decode_node_irradiance(echo, points, 0.3f);
+    ASSERT_EQ(nodes.irradiance.size(), points.size());
+    for (size_t j = 0; j < points.size(); ++j) EXPECT_EQ(nodes.irradiance[j], points.vec3(j, 0)) << "point " << j;
+    EXPECT_EQ(nodes.interpolator.size(), points.size());
+    EXPECT_THROW(decode_node_irradiance(echo, PointSet({"x", "y", "z"}, 3), 0.3f), Error);
+    const IrradianceDecoder wrong = [](const torch::Tensor &q) { return q.slice(0, 1).slice(1, 0, 3).clone(); };
+    EXPECT_ANY_THROW(decode_node_irradiance(wrong, points, 0.3f)) << "a decoder answering the wrong number of rows";
+}
+
+// BounceIrradiance::automatic interpolates exactly when the bounce has at least 2·M rays.
+TEST(NeuralRenderer, AutomaticBounceInterpolatesOnlyWithEnoughRays) {
+    const Scene scene = room_with_metal();
+    LtmModel model = tiny_model();
+    const EmbreeAccel accel(scene);
+    const PathTracer pt(accel, PathTracerConfig{});
+    const Camera cam = looking_at({1.f, 1.5f, 3.5f}, {2.5f, 0.3f, 1.5f}, 24);
+    std::set<BounceIrradiance> seen;
+    for (int K : {1, 64}) {
+        NeuralRenderOptions opt;
+        opt.direct_spp = 4, opt.seed = 3, opt.glossy_samples = K, opt.glossy = GlossyShading::trace;
+        const NeuralRender r = render_neural(model, pt, cam, opt);
+        ASSERT_GT(r.n_conductor, 40);
+        const bool nodes = r.n_conductor * K >= k_bounce_nodes_per_point * r.n_scene_points;
+        EXPECT_EQ(r.bounce, nodes ? BounceIrradiance::nodes : BounceIrradiance::decode) << K;
+        seen.insert(r.bounce);
+    }
+    EXPECT_EQ(seen.size(), 2u) << "both ways occur";
+    EXPECT_EQ(parse_bounce_irradiance("auto"), BounceIrradiance::automatic);
+    EXPECT_THROW(parse_bounce_irradiance("nearest"), Error);
 }
 
 // F16 export halves the file and predicts within half precision of the F32 weights.

@@ -114,4 +114,12 @@ TEST(PointInterpolation, RejectsBadInput) {
     EXPECT_THROW(PointInterpolator({Vec3f(0.f)}, {Vec3f(0, 0, 1)}, 0.f), Error);
     EXPECT_THROW(PointInterpolator({Vec3f(0.f)}, {Vec3f(0, 0, 1)}, std::nanf("")), Error);
     EXPECT_THROW(PointInterpolator({Vec3f(std::nanf(""))}, {Vec3f(0, 0, 1)}, 1.f), Error);
+    EXPECT_THROW(PointInterpolator({Vec3f(0.f)}, {Vec3f(std::nanf(""))}, 1.f), Error);
+    // A query with a NaN normal or position qualifies nothing (the caller's decode then reports it).
+    const PointInterpolator interp({Vec3f(0.f)}, {Vec3f(0, 0, 1)}, 1.f);
+    const Vec3f v(1.f);
+    Vec3f e;
+    EXPECT_FALSE(interp.interpolate(Vec3f(0.1f, 0.f, 0.f), Vec3f(std::nanf("")), &v, e));
+    EXPECT_FALSE(interp.interpolate(Vec3f(std::nanf("")), Vec3f(0, 0, 1), &v, e));
+    EXPECT_TRUE(interp.interpolate(Vec3f(0.1f, 0.f, 0.f), Vec3f(0, 0, 1), &v, e));
 }

@@ -33,7 +33,7 @@ struct RadianceEvalOptions {
     EvalOptions base;          ///< size, views, ref_spp, baseline_spp, seed, out_dir (ref_cache_dir, gi_stride unused)
     int direct_spp = 16;       ///< the neural render's light samples per pixel
     int glossy_samples = 0;    ///< the neural render's GGX samples per conductor pixel (0: 64 traced, 16 through the head)
-    BounceIrradiance bounce = BounceIrradiance::nodes;   ///< the model rows' traced bounce (the other way: its own row)
+    BounceIrradiance bounce = BounceIrradiance::automatic;   ///< the model rows' traced bounce (the other way: its own row)
 };
 
 struct RadianceEvalReport {

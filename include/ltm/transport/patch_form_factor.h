@@ -30,8 +30,6 @@ float patch_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side);
 /// node's square reaches over the horizon only where other nodes stand for the surface: a floor
 /// point under a wall lit the wall's foot and the door jamb from the next room in veach-ajar
 /// (docs/results.md, session 26), a side face's node lit a top face near its edge.
-inline float near_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side) {
-    return dot(n, c - p) > 0.f ? patch_form_factor(p, n, c, nc, side) : 0.f;
-}
+float near_form_factor(Vec3f p, Vec3f n, Vec3f c, Vec3f nc, float side);
 
 }  // namespace ltm
