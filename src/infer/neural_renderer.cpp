@@ -34,10 +34,10 @@ LoadedModel load_model(const std::string &path) {
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed) {
     EncodedScene enc;
     auto t = Clock::now();
-    const ScenePoints sampled = sample_scene_points(accel, model->cfg.scene_points, seed, exclude_enclosed);
+    ScenePoints sampled = sample_scene_points(accel, model->cfg.scene_points, seed, exclude_enclosed);
     const auto points = point_tensor(sampled.points);
-    enc.points = sampled.points;
     enc.spacing = float(std::sqrt(accel.scene().total_area() / double(std::max<size_t>(1, sampled.points.size()))));
+    enc.points = std::move(sampled.points);   // the tensor holds its own copy
     const Vec3f s = sampled.emission_scale;
     const auto emission_scale = torch::tensor({s.x, s.y, s.z});
     enc.n_scene_points = points.size(0);
@@ -83,13 +83,20 @@ std::vector<Vec3f> rows_of(const torch::Tensor &e, int64_t n, const char *what) 
     return out;
 }
 
-// Ê⁺ at the G-buffer hits listed in `hits` (all hits if null), in that order.
-// prior_only: the model's prior, the network silenced (no timings: not the decoder's).
-std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
-                                const std::vector<size_t> *hits, PredictTimings *timings, bool prior_only = false) {
+// The model's prior, the network silenced, at the G-buffer hits listed in `hits` (all if null).
+std::vector<Vec3f> prior_hits(const EncodedScene &enc, const GBuffer &gb, const std::vector<size_t> *hits) {
     const int64_t n = hits ? int64_t(hits->size()) : int64_t(gb.n_hits());
     if (n == 0) return {};
-    if (prior_only) return rows_of(model_prior_irradiance(enc.latents)(gbuffer_queries(gb, hits)), n, "predict_gbuffer: prior");
+    return rows_of(model_prior_irradiance(enc.latents)(gbuffer_queries(gb, hits)), n, "predict_gbuffer_prior: prior");
+}
+
+// Ê⁺ at the G-buffer hits listed in `hits` (all hits if null), in that order.
+// prior_only: the model's prior instead (prior_hits; no timings: not the decoder's).
+std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
+                                const std::vector<size_t> *hits, PredictTimings *timings, bool prior_only = false) {
+    if (prior_only) return prior_hits(enc, gb, hits);
+    const int64_t n = hits ? int64_t(hits->size()) : int64_t(gb.n_hits());
+    if (n == 0) return {};
     PredictTimings t;
     const auto e = model->predict_irradiance(gbuffer_queries(gb, hits), enc.latents, 16384, &t);
     if (timings) timings->knn += t.knn, timings->decode += t.decode;
@@ -97,12 +104,7 @@ std::vector<Vec3f> predict_hits(LtmModel &model, const EncodedScene &enc, const 
 }
 }  // namespace
 
-std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer &gb) {
-    torch::NoGradGuard no_grad;
-    const int64_t n = int64_t(gb.n_hits());
-    if (n == 0) return {};
-    return rows_of(model_prior_irradiance(enc.latents)(gbuffer_queries(gb, nullptr)), n, "predict_gbuffer_prior: prior");
-}
+std::vector<Vec3f> predict_gbuffer_prior(const EncodedScene &enc, const GBuffer &gb) { return prior_hits(enc, gb, nullptr); }
 
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb, PredictTimings *timings) {
     if (timings) *timings = {};

@@ -41,17 +41,13 @@ NodeIrradiance decode_node_irradiance(const IrradianceDecoder &decode, const Poi
     const size_t m = points.size();
     if (m == 0 || points.n_columns() < 9) LTM_THROW("node irradiance: needs scene points with p, n, albedo columns, got ", m, " × ", points.n_columns());
     std::vector<Vec3f> position(m), normal(m);
-    std::vector<float> q(m * 9);
-    for (size_t j = 0; j < m; ++j) {
-        position[j] = points.vec3(j, 0), normal[j] = points.vec3(j, 3);
-        write_query_row(&q[j * 9], position[j], normal[j], points.vec3(j, 6));
-    }
+    for (size_t j = 0; j < m; ++j) position[j] = points.vec3(j, 0), normal[j] = points.vec3(j, 3);
+    // The points' query rows in group_order, as every gather here: neighbours share their tree walks.
+    const std::vector<uint32_t> order = PriorTree::group_order(&position[0].x, &normal[0].x, 3, m);
+    std::vector<float> ordered(m * 9);
+    for (size_t k = 0; k < m; ++k) write_query_row(&ordered[k * 9], position[order[k]], normal[order[k]], points.vec3(order[k], 6));
     NodeIrradiance nodes;
     nodes.interpolator = PointInterpolator(std::move(position), std::move(normal), spacing);
-    // In group_order, as every gather here: neighbours share their tree walks.
-    const std::vector<uint32_t> order = PriorTree::group_order(q.data(), q.data() + 3, 9, m);
-    std::vector<float> ordered(m * 9);
-    for (size_t k = 0; k < m; ++k) std::copy_n(&q[size_t(order[k]) * 9], 9, &ordered[k * 9]);
     const auto e = decode(rows_tensor(ordered, 9)).to(torch::kCPU, torch::kFloat32).contiguous();
     TORCH_CHECK(e.sizes() == torch::IntArrayRef({int64_t(m), 3}), "node irradiance: the decoder returned ", e.sizes());
     const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
