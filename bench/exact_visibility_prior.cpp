@@ -210,6 +210,7 @@ int main(int argc, char **argv) {
             // EXACT_VIS_SOFT: cluster visibilities through the exact column's formula.
             const int soft_rays = exact && std::getenv("EXACT_VIS_SOFT") ? std::atoi(std::getenv("EXACT_VIS_SOFT")) : 0;
             const ClusterVisibility &sv_vis = shipped.visibility;
+            const bool emitters_exact = std::getenv("EXACT_VIS_EMITTERS_EXACT") != nullptr;
             const size_t n_cl = sv_vis.size();
             std::vector<float> v_soft, v_bin;
             std::vector<Vec3f> s_soft, s_bin;
@@ -235,15 +236,33 @@ int main(int argc, char **argv) {
                             v_soft[size_t(c1) * n_cl + c2] = v_soft[c2 * n_cl + size_t(c1)] = v;
                         }
                 });
+                if (std::getenv("EXACT_VIS_DEBUG")) {   // the emitters' clusters: soft against binary visibility
+                    double sum_s = 0, sum_b = 0;
+                    size_t cnt = 0;
+                    for (size_t j = 0; j < m; ++j) {
+                        if (!(nd.le[j][0] > 0.f)) continue;
+                        const size_t c1 = sv_vis.node_cluster[j];
+                        for (size_t c2 = 0; c2 < n_cl; ++c2) sum_s += v_soft[c1 * n_cl + c2], sum_b += v_bin[c1 * n_cl + c2], ++cnt;
+                        std::fprintf(stderr, "emitter node %zu cluster %zu members %zu\n", j, c1, members[c1].size());
+                    }
+                    double all_s = 0, all_b = 0;
+                    for (size_t i = 0; i < n_cl * n_cl; ++i) all_s += v_soft[i], all_b += v_bin[i];
+                    std::fprintf(stderr, "emitters' clusters: mean soft V %.3f, binary %.3f; all clusters: soft %.3f, binary %.3f (%zu clusters)\n",
+                                 sum_s / double(cnt ? cnt : 1), sum_b / double(cnt ? cnt : 1), all_s / double(n_cl * n_cl), all_b / double(n_cl * n_cl), n_cl);
+                }
                 for (const std::vector<float> *vv : {&v_soft, &v_bin}) {
                     std::vector<float> g(m * m, 0.f);
                     parallel_for(0, int64_t(m), 16, [&](int64_t b, int64_t e) {
                         for (int64_t i = b; i < e; ++i) {
                             const size_t ci = sv_vis.node_cluster[size_t(i)];
                             for (size_t j = 0; j < m; ++j)
-                                g[size_t(i) * m + j] = g0[size_t(i) * m + j] > 0.f ? term(nd.p[size_t(i)], nd.n[size_t(i)], nd.p[j], nd.n[j], a) *
-                                                                                      (*vv)[ci * n_cl + sv_vis.node_cluster[j]]
-                                                                                : 0.f;
+                            {
+                                if (!(g0[size_t(i) * m + j] > 0.f)) continue;
+                                const bool em = emitters_exact && vv == &v_soft &&
+                                                (nd.le[j][0] + nd.le[j][1] + nd.le[j][2] > 0.f || nd.le[size_t(i)][0] + nd.le[size_t(i)][1] + nd.le[size_t(i)][2] > 0.f);
+                                const float v = em ? float(gv[size_t(i) * m + j] > 0.f) : (*vv)[ci * n_cl + sv_vis.node_cluster[j]];
+                                g[size_t(i) * m + j] = term(nd.p[size_t(i)], nd.n[size_t(i)], nd.p[j], nd.n[j], a) * v;
+                            }
                         }
                     });
                     normalise(g, &cl);
@@ -286,13 +305,16 @@ int main(int argc, char **argv) {
                         const float t = term(p, nn, nd.p[j], nd.n[j], a);
                         if (t <= 0.f) continue;
                         d0 += t;
+                        const bool occluded = blocked(accel, p, nn, nd.p[j], nd.n[j], eps);
                         if (soft_rays > 0) {
-                            const float ws = t * cws[sv_vis.node_cluster[j]], wb = t * cwb[sv_vis.node_cluster[j]];
+                            // EXACT_VIS_EMITTERS_EXACT=1: pairs with an emitter node take the ray's answer.
+                            const bool em = emitters_exact && nd.le[j][0] + nd.le[j][1] + nd.le[j][2] > 0.f;
+                            const float vs = em ? float(!occluded) : cws[sv_vis.node_cluster[j]];
+                            const float ws = t * vs, wb = t * cwb[sv_vis.node_cluster[j]];
                             ds += ws, db += wb;
                             for (int k = 0; k < 3; ++k) as_[k] += double(ws) * s_soft[j][k], ab[k] += double(wb) * s_bin[j][k];
                         }
                         for (int k = 0; k < 3; ++k) a0[k] += double(t) * s0[j][k];
-                        const bool occluded = blocked(accel, p, nn, nd.p[j], nd.n[j], eps);
                         if (near_r > 0.f) {
                             const Vec3f dd = nd.p[j] - p;
                             float wv;
