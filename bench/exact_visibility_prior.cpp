@@ -21,6 +21,14 @@
 // only the visibility differs from the exact column: the shipped prior's clusters seeing each other
 // or not (centre to centre against the points as discs), and the same clusters with a soft
 // visibility, the share of R ray pairs between facing random members that no triangle blocks.
+// EXACT_VIS_EMITTERS_EXACT=1 gives the soft variant's pairs that hold an emitter node their own ray
+// (a light's cluster mixes it with the ceiling it hangs under). EXACT_VIS_NEAR=R adds the shipped
+// solve gathered with rays to the nodes within R spacings of a pixel and the shipped clusters beyond.
+// EXACT_VIS_CLUSTER_LIFT=x lifts the centre-to-centre rays x spacings off their surfaces (default
+// 0.5). EXACT_VIS_SKIP=1 leaves out every dense part (only the shipped prior, its clusters from the
+// meshes and the final gather: any M). EXACT_VIS_DEBUG=1 prints the emitters' clusters' visibility.
+// The hybrids (exact solve with the clustered gather, the shipped solve gathered exactly) and these
+// variants print to stderr. docs/results.md, "The prior's visibility is most of the real rooms' error".
 // EXACT_VIS_REF_DEPTH=D compares against the reference with at most D scattering events (cached as
 // prior_ablation's PRIOR_ABLATION_REF_DEPTH). SCENES: scene files and builtin:NAME, comma-separated,
 // or a seed range A:B of generated houses.
