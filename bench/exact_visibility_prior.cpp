@@ -21,7 +21,8 @@
 // only the visibility differs from the exact column: the shipped prior's clusters seeing each other
 // or not (centre to centre against the points as discs), and the same clusters with a soft
 // visibility, the share of R ray pairs between facing random members that no triangle blocks.
-// EXACT_VIS_EMITTERS_EXACT=1 gives the soft variant's pairs that hold an emitter node their own ray
+// EXACT_VIS_SOFT_BINARY=1 keeps the soft variant's clusters binary (with EXACT_VIS_EMITTERS_EXACT:
+// only the emitters' pairs exact). EXACT_VIS_EMITTERS_EXACT=1 gives the soft variant's pairs that hold an emitter node their own ray
 // (a light's cluster mixes it with the ceiling it hangs under). EXACT_VIS_NEAR=R adds the shipped
 // solve gathered with rays to the nodes within R spacings of a pixel and the shipped clusters beyond.
 // EXACT_VIS_CLUSTER_LIFT=x lifts the centre-to-centre rays x spacings off their surfaces (default
@@ -219,6 +220,7 @@ int main(int argc, char **argv) {
             const int soft_rays = exact && std::getenv("EXACT_VIS_SOFT") ? std::atoi(std::getenv("EXACT_VIS_SOFT")) : 0;
             const ClusterVisibility &sv_vis = shipped.visibility;
             const bool emitters_exact = std::getenv("EXACT_VIS_EMITTERS_EXACT") != nullptr;
+            const bool soft_binary = std::getenv("EXACT_VIS_SOFT_BINARY") != nullptr;
             const size_t n_cl = sv_vis.size();
             std::vector<float> v_soft, v_bin;
             std::vector<Vec3f> s_soft, s_bin;
@@ -240,7 +242,8 @@ int main(int argc, char **argv) {
                                 ++facing;
                                 seen += !blocked(accel, nd.p[i], nd.n[i], nd.p[j], nd.n[j], eps);
                             }
-                            const float v = facing > 0 ? float(seen) / float(facing) : float(sv_vis.visible[size_t(c1) * n_cl + c2]);
+                            // EXACT_VIS_SOFT_BINARY=1: the soft variant keeps the binary clusters (to isolate EXACT_VIS_EMITTERS_EXACT).
+                            const float v = facing > 0 && !soft_binary ? float(seen) / float(facing) : float(sv_vis.visible[size_t(c1) * n_cl + c2]);
                             v_soft[size_t(c1) * n_cl + c2] = v_soft[c2 * n_cl + size_t(c1)] = v;
                         }
                 });
