@@ -11,7 +11,8 @@
 # A fresh machine has lost DATA and RUN: the script starts them again from INIT, which lives in git.
 # Usage: nohup nice scripts/train-mix.sh > mix.log 2>&1 &   (env: BUILD or LTM, SEEDS, DATA, RUN,
 # INIT, STEPS, LR, POINT_SETS, THREADS (worker threads for training; 0 = all cores), MODEL (the config to train into; default small-pi: records baked
-# at another M than the model's have their points sampled afresh at its M), SELECT=0 to skip step 3)
+# at another M than the model's have their points sampled afresh at its M), SELECT=0 to skip step 3,
+# EXTRA: more `ltm train` options, e.g. "--set region_weight=20")
 set -euo pipefail
 BUILD=${BUILD:-build}
 LTM=${LTM:-$BUILD/apps/ltm/ltm}
@@ -30,7 +31,7 @@ train=("$LTM" train --threads "$THREADS" --model "$MODEL" --data "$DATA" --out "
        --config configs/train/physics.json --steps "$STEPS" --set lr="$LR" --set warmup_steps=50
        --set scenes_per_step=1 --set batch_queries=4096 --set val_fraction=0.03 --set loss=level-l2 --set level_cap=4
        --set point_sets="$POINT_SETS" --set resample_points=true --set val_scenes=8 --set val_every=200 --set ckpt_every=50
-       --set keep_val_checkpoints=true)
+       --set keep_val_checkpoints=true ${EXTRA:-})
 if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume; else "${train[@]}" --init "$INIT"; fi
 if [[ "$SELECT" == 1 ]]; then
   SEEDS=930100:930108 GEN=configs/gen/real-mix.json REF_CACHE=refs-mixval LTM="$LTM" \

@@ -57,6 +57,10 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .omit_default()
             .field("level_cap", &C::level_cap, "level-l2: a point's weight min(level_cap, P/L) (note 2)", at_least(1))
             .omit_default()
+            .field("region_weight", &C::region_weight, "weight of the regional-level term (note 2)", at_least(0))
+            .omit_default()
+            .field("region_size", &C::region_size, "regional-level term: the regions' edge in units of the length scale", positive())
+            .omit_default()
             .field("point_sets", &C::point_sets, "scene point sets per training house, one drawn per step (note 6)", between(1, 64))
             .omit_default()
             .field("resample_points", &C::resample_points, "records with another scene point count than the model's have every point set sampled afresh at the model's M (note 6); else they are refused")
@@ -269,7 +273,12 @@ TrainStepLog Trainer::train_step() {
         const auto scale = query_scale(sc, idx);
         const auto z = m_model->decode(queries, lat, scale);
         // The step's loss is the mean of the scenes' losses; gradients accumulate scene by scene.
-        const auto l = loss(z, sc.target.index_select(0, idx), scale) / double(K);
+        auto l = loss(z, sc.target.index_select(0, idx), scale);
+        if (m_cfg.region_weight > 0.f)
+            l = l + double(m_cfg.region_weight) *
+                        region_level_loss(torch::expm1(z), normalized_target(sc.target.index_select(0, idx), scale), scale,
+                                          queries.slice(1, 0, 3), double(m_cfg.region_size) * lat.norm.length.item<double>());
+        l = l / double(K);
         const double v = l.item<double>();
         if (!std::isfinite(v)) log.skipped = true;
         else l.backward(), log.loss += v;
@@ -342,6 +351,25 @@ torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &targ
     const auto level = s.mean(0, /*keepdim=*/true).clamp_min(1e-30);
     const auto w = (s / level).clamp_max(cap);
     return ((pred - target) * w).pow(2).mean();
+}
+
+torch::Tensor region_level_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale,
+                                const torch::Tensor &positions, double cell) {
+    TORCH_CHECK(pred.sizes() == target.sizes() && pred.dim() == 2 && pred.size(1) == 3, "region loss: prediction ", pred.sizes(),
+                " and target ", target.sizes(), " must be the same [N, 3]");
+    TORCH_CHECK(positions.dim() == 2 && positions.size(0) == pred.size(0) && positions.size(1) == 3, "region loss: positions ",
+                positions.sizes(), " must be [N, 3] for ", pred.size(0), " queries");
+    if (!(cell > 0.0) || !std::isfinite(cell)) LTM_THROW("region loss: cell edge must be finite and > 0, got ", cell);
+    const auto s = scale.detach().expand_as(pred);
+    // Region of each query: its cube's integer coordinates, made one key by torch::unique over rows.
+    const auto cube = torch::floor(positions.detach().to(torch::kFloat64) / cell).to(torch::kInt64);
+    const auto inverse = std::get<1>(torch::unique_dim(cube, 0, /*sorted=*/true, /*return_inverse=*/true));
+    const int64_t regions = inverse.numel() > 0 ? inverse.max().item<int64_t>() + 1 : 0;
+    const auto p = torch::zeros({regions}, pred.options()).index_add(0, inverse, (pred * s).sum(1));
+    const auto t = torch::zeros({regions}, pred.options()).index_add(0, inverse, (target * s).detach().sum(1));
+    const auto eps = 1e-3 * t.mean().clamp_min(1e-30);
+    const auto share = t / t.sum().clamp_min(1e-30);
+    return (share * torch::log((p.clamp_min(0) + eps) / (t.clamp_min(0) + eps)).pow(2)).sum();
 }
 
 namespace {

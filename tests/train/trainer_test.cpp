@@ -279,6 +279,36 @@ TEST(Trainer, EveryShippedConfigParses) {
     EXPECT_GE(n, 14);
 }
 
+// The regional-level term: a region's summed light against its target's, so errors that cancel
+// inside a region (a noisy target's) cost nothing and a region's common error costs its share · ln².
+TEST(Trainer, RegionLevelLossSeesRegionsNotQueries) {
+    // Two regions of two queries each (cubes of edge 1 along x); prior 1, targets 1.
+    const auto pos = torch::tensor({0.1f, 0.f, 0.f, 0.2f, 0.f, 0.f, 5.1f, 0.f, 0.f, 5.3f, 0.f, 0.f}).view({4, 3});
+    const auto scale = torch::ones({4, 3});
+    const auto target = torch::ones({4, 3});
+    // Errors that cancel within region B: 0.
+    const auto noisy = torch::tensor({1.f, 1.f, 1.f, 1.f, 1.f, 1.f, 2.f, 2.f, 2.f, 0.f, 0.f, 0.f}).view({4, 3});
+    EXPECT_NEAR(region_level_loss(noisy, target, scale, pos, 1.0).item<double>(), 0.0, 1e-9);
+    // Region B twice too bright: its share 1/2 · ln²((12 + ε)/(6 + ε)), ε = 10⁻³ · 6.
+    auto bright = torch::tensor({1.f, 1.f, 1.f, 1.f, 1.f, 1.f, 2.f, 2.f, 2.f, 2.f, 2.f, 2.f}).view({4, 3}).requires_grad_(true);
+    const double expect = 0.5 * std::pow(std::log((12.0 + 6e-3) / (6.0 + 6e-3)), 2.0);
+    const auto l = region_level_loss(bright, target, scale, pos, 1.0);
+    EXPECT_NEAR(l.item<double>(), expect, 1e-6);
+    // Invariant to a common scale of the prior and to the unit (positions and cell ×10).
+    EXPECT_NEAR(region_level_loss(bright, target, scale * 1e6, pos, 1.0).item<double>(), expect, 1e-6);
+    EXPECT_NEAR(region_level_loss(bright, target, scale, pos * 10, 10.0).item<double>(), expect, 1e-6);
+    // One region holding all four: its sum is 18 against 12.
+    EXPECT_NEAR(region_level_loss(bright, target, scale, pos, 100.0).item<double>(),
+                std::pow(std::log((18.0 + 12e-3) / (12.0 + 12e-3)), 2.0), 1e-6);
+    // The gradient reaches region B's queries only.
+    l.backward();
+    EXPECT_EQ(bright.grad().slice(0, 0, 2).abs().sum().item<float>(), 0.f);
+    EXPECT_GT(bright.grad().slice(0, 2, 4).sum().item<float>(), 0.f);
+    // Bad input: a cell that is not positive, positions of the wrong shape.
+    EXPECT_THROW(region_level_loss(bright, target, scale, pos, 0.0), ltm::Error);
+    EXPECT_ANY_THROW(region_level_loss(bright, target, scale, pos.slice(0, 0, 3), 1.0));
+}
+
 // level-l2 (the camera's error): weights min(1, prior / L) with L the batch's mean prior, per channel.
 TEST(Trainer, LevelL2WeightsDarkPointsAbsolutelyAndIsMinimisedByTheMean) {
     // Two points, prior 3 and 1 in every channel: L = 2, weights 1 and 1/2; unit ratio errors.

@@ -41,6 +41,12 @@ struct TrainConfig {
     /// adds ε to z (v0.3 shipped 0.1).
     float loss_eps = 1.0f;
     float level_cap = 1.0f;   ///< level-l2: weight min(level_cap, prior / level) (level_l2_loss)
+    /// > 0: the loss adds region_weight × region_level_loss over cubes of edge region_size·ℓ (ℓ the
+    /// scene's length scale): the error of each region's summed light, which the view metric counts
+    /// and a query's own loss hides under its target's noise (docs/results.md, session 27: each
+    /// view's own level holds a third of the prior's removable error). 0 = off.
+    float region_weight = 0.f;
+    float region_size = 16.f;   ///< the regions' edge in units of ℓ (region_weight > 0)
     /// Point sets per training house: the record's own and point_sets − 1 more, sampled afresh
     /// from the regenerated house (seeds derived from the record's); each draw uses one at random.
     /// The prior's view level varies 5–10 % between point sets of one house (docs/results.md,
@@ -108,6 +114,17 @@ struct TrainStepLog {
 ///   pred, target [N, 3] (ratios to the prior), scale [3] or [N, 3] (output_scale) -> scalar
 /// Unbiased with noisy targets (a weighted L2); invariant to a common scale of the prior.
 torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale, double cap = 1.0);
+
+/// The error of regional levels: queries are grouped by the cube of edge `cell` that holds them
+/// (positions [N, 3], any frame), and each region r compares its light P_r = Σ_q Σ_c pred·scale with
+/// the target's T_r:   Σ_r (T_r / Σ T) · ln²((P_r + ε) / (T_r + ε)),   ε = 10⁻³ · mean T_r.
+/// A region's sum averages its targets' noise away (a 64-spp target is mostly noise, a region of a
+/// hundred queries much less), so this sees the low-frequency error a per-query loss drowns.
+///   pred, target [N, 3] (ratios to the prior), scale [3] or [N, 3], positions [N, 3], cell > 0 -> scalar
+/// Zero when pred = target; invariant to a common scale of the prior and to the positions' unit
+/// when cell scales with it.
+torch::Tensor region_level_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale,
+                                const torch::Tensor &positions, double cell);
 
 class Trainer {
 public:
