@@ -54,7 +54,8 @@
 #include "ltm/points/point_interpolation.h"
 #include "ltm/scene/scene_loader.h"
 #include "ltm/transport/transport_prior.h"
-#include "scene_list.h"
+#include "bench_scenes.h"
+#include "shipped_prior.h"
 
 using namespace ltm;
 
@@ -111,20 +112,13 @@ int main(int argc, char **argv) {
     const int size = argc > 3 ? std::atoi(argv[3]) : 128, ref_spp = argc > 4 ? std::atoi(argv[4]) : 1024;
     const int64_t m_req = argc > 5 ? std::atoll(argv[5]) : 4096;
     const int bounces = argc > 6 ? std::atoi(argv[6]) : 5;
-    std::vector<std::pair<std::string, std::string>> scene_list;
-    if (is_seed_range(range)) {
-        const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
-        for (uint64_t seed = lo; seed < hi; ++seed) scene_list.emplace_back("seed-" + std::to_string(seed), "");
-    } else {
-        const std::vector<std::string> paths = bench::split_commas(range);
-        const std::vector<std::string> labels = scene_labels(paths);
-        for (size_t i = 0; i < paths.size(); ++i) scene_list.emplace_back(labels[i], paths[i]);
-    }
+    const std::vector<bench::BenchScene> scene_list = bench::bench_scenes(range);
     std::printf("| scene | M | reference depth | exact visibility: MSE (level) | no occlusion: MSE (level) | mean closure (nodes / pixels) | "
                 "shipped prior: MSE (level) | its clusters from the meshes: MSE (level) |\n|---|---|---|---|---|---|---|---|\n");
     try {
-        for (const auto &[name, path] : scene_list) {
-            const Scene scene = path.empty() ? generate_indoor(GenConfig{}, std::stoull(name.substr(5))).scene : load_scene(path);
+        for (const bench::BenchScene &bs : scene_list) {
+            const std::string &name = bs.name;
+            const Scene scene = bench::load_bench_scene(bs);
             const EmbreeAccel accel(scene);
             const Camera cam = eval_view_camera(scene, 0, 1, size, size);
             PathTracerConfig cfg = eval_tracer_config(0, EvalRole::reference);
@@ -194,9 +188,7 @@ int main(int argc, char **argv) {
             const std::vector<Vec3f> sv = exact ? solve(gv) : std::vector<Vec3f>(m), s0 = exact ? solve(g0) : std::vector<Vec3f>(m);
             const size_t n = gb.n_hits();
             // The shipped prior (prior_features' settings), then its clusters' visibility from the meshes.
-            VisibilityOptions vo;
-            vo.voxel_spacings = 1.f, vo.clusters = 1024, vo.disc_spacings = 1.f, vo.blend = 4, vo.open_rays = 8;
-            const TransportPrior shipped = solve_transport_prior(sp.points, a, bounces, &sp.emission_scale, vo, nullptr, PriorBalance::none, true, 0.5f);
+            const TransportPrior shipped = bench::solve_shipped_prior(sp, a, bounces);
             ClusterVisibility cv = shipped.visibility;
             // EXACT_VIS_CLUSTER_LIFT=x: the centres' segment ends lifted x spacings off their surfaces (default 0.5).
             const float lift = spacing * (std::getenv("EXACT_VIS_CLUSTER_LIFT") ? std::stof(std::getenv("EXACT_VIS_CLUSTER_LIFT")) : 0.5f);
@@ -269,9 +261,9 @@ int main(int argc, char **argv) {
                             for (size_t j = 0; j < m; ++j)
                             {
                                 if (!(g0[size_t(i) * m + j] > 0.f)) continue;
-                                const bool em = emitters_exact && vv == &v_soft &&
+                                const bool with_emitter = emitters_exact && vv == &v_soft &&
                                                 (nd.le[j][0] + nd.le[j][1] + nd.le[j][2] > 0.f || nd.le[size_t(i)][0] + nd.le[size_t(i)][1] + nd.le[size_t(i)][2] > 0.f);
-                                const float v = em ? float(gv[size_t(i) * m + j] > 0.f) : (*vv)[ci * n_cl + sv_vis.node_cluster[j]];
+                                const float v = with_emitter ? float(gv[size_t(i) * m + j] > 0.f) : (*vv)[ci * n_cl + sv_vis.node_cluster[j]];
                                 g[size_t(i) * m + j] = term(nd.p[size_t(i)], nd.n[size_t(i)], nd.p[j], nd.n[j], a) * v;
                             }
                         }
@@ -319,8 +311,8 @@ int main(int argc, char **argv) {
                         const bool occluded = blocked(accel, p, nn, nd.p[j], nd.n[j], eps);
                         if (soft_rays > 0) {
                             // EXACT_VIS_EMITTERS_EXACT=1: pairs with an emitter node take the ray's answer.
-                            const bool em = emitters_exact && nd.le[j][0] + nd.le[j][1] + nd.le[j][2] > 0.f;
-                            const float vs = em ? float(!occluded) : cws[sv_vis.node_cluster[j]];
+                            const bool with_emitter = emitters_exact && nd.le[j][0] + nd.le[j][1] + nd.le[j][2] > 0.f;
+                            const float vs = with_emitter ? float(!occluded) : cws[sv_vis.node_cluster[j]];
                             const float ws = t * vs, wb = t * cwb[sv_vis.node_cluster[j]];
                             ds += ws, db += wb;
                             for (int k = 0; k < 3; ++k) as_[k] += double(ws) * s_soft[j][k], ab[k] += double(wb) * s_bin[j][k];

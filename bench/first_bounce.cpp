@@ -33,6 +33,7 @@
 #include "ltm/scene/scene_loader.h"
 #include "ltm/transport/transport_prior.h"
 #include "scene_list.h"
+#include "shipped_prior.h"
 
 using namespace ltm;
 
@@ -82,15 +83,8 @@ int main(int argc, char **argv) {
             const ScenePoints sp = sample_scene_points(accel, 8192, 0, true);
             const PointSet &pts = sp.points;
             const float spacing = float(std::sqrt(scene.total_area() / double(pts.size())));
-            VisibilityOptions vis;
-            vis.voxel_spacings = 1.f;
-            vis.clusters = 1024;
-            vis.splat_spacings = 0.f;
-            vis.disc_spacings = 1.f;
-            vis.blend = 4;
-            vis.open_rays = 8;
-            TransportPrior prior = solve_transport_prior(pts, spacing * spacing, 1, &sp.emission_scale, vis, nullptr,
-                                                         PriorBalance::none, true);
+            TransportPrior prior = solve_transport_prior(pts, spacing * spacing, 1, &sp.emission_scale, bench::shipped_visibility(), nullptr,
+                                                         PriorBalance::none, true);   // dense rows, as v0.12
             std::vector<Vec3f> e(gb.n_hits());
             gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &e[0].x);
             const double prior_level = mean_lum(e) / std::max(1e-30, mean_lum(ref_hits));

@@ -36,7 +36,7 @@
 #include "ltm/scene/scene_loader.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/scene_points.h"
-#include "scene_list.h"
+#include "bench_scenes.h"
 
 using namespace ltm;
 
@@ -71,15 +71,7 @@ int main(int argc, char **argv) {
     set_log_level(LogLevel::quiet);
     const std::string range = argv[1];
     // Scenes: a seed range A:B of generated houses, or scene files (and builtin:NAME) separated by commas.
-    std::vector<std::pair<std::string, std::string>> scene_list;   // (name, path; empty path: a seed)
-    if (is_seed_range(range)) {
-        const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
-        for (uint64_t seed = lo; seed < hi; ++seed) scene_list.emplace_back("seed-" + std::to_string(seed), "");
-    } else {
-        const std::vector<std::string> paths = bench::split_commas(range);
-        const std::vector<std::string> labels = scene_labels(paths);   // as ltm eval names them
-        for (size_t i = 0; i < paths.size(); ++i) scene_list.emplace_back(labels[i], paths[i]);
-    }
+    const std::vector<bench::BenchScene> scene_list = bench::bench_scenes(range);
     const std::string cache = argv[2];
     const int size = argc > 3 ? std::atoi(argv[3]) : 64, ref_spp = argc > 4 ? std::atoi(argv[4]) : 256;
     // Settings from the command line (fields below), else a default sweep.
@@ -122,8 +114,9 @@ int main(int argc, char **argv) {
     double floor_sum = 0;   // Σ over views of the references' own noise (ref_noise)
     int floor_views = 0;
     try {
-        for (const auto &[name, path] : scene_list) {
-            Scene scene = path.empty() ? generate_indoor(GenConfig{}, std::stoull(name.substr(5))).scene : load_scene(path);
+        for (const bench::BenchScene &bs : scene_list) {
+            const std::string &name = bs.name;
+            Scene scene = bench::load_bench_scene(bs);
             // PRIOR_ABLATION_CONDUCTOR_ALBEDO=1: conductors' scene points carry their F0 as albedo
             // (else the material's unused diffuse albedo, 0.8 by default). The reference is
             // unchanged: the path tracer reads only a conductor's F0 and roughness.

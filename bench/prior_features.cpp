@@ -30,24 +30,13 @@
 #include "ltm/render/scene_points.h"
 #include "ltm/scene/scene_loader.h"
 #include "ltm/transport/transport_prior.h"
-#include "scene_list.h"
+#include "bench_scenes.h"
+#include "shipped_prior.h"
 
 using namespace ltm;
 
 namespace {
-// The shipped prior's settings (configs/model/cpu.json physics; prior_ablation's 1:1024:0:1:1:2:5:4:1:8:0.5).
-constexpr int k_bounces = 5;
-
-TransportPrior solve_shipped(const ScenePoints &sp, float node_area, int bounces) {
-    VisibilityOptions vis;
-    vis.voxel_spacings = 1.f;
-    vis.clusters = 1024;
-    vis.splat_spacings = 0.f;
-    vis.disc_spacings = 1.f;
-    vis.blend = 4;
-    vis.open_rays = 8;
-    return solve_transport_prior(sp.points, node_area, bounces, &sp.emission_scale, vis, nullptr, PriorBalance::none, true, 0.5f);
-}
+constexpr int k_bounces = 5;   // the shipped prior's D
 
 std::vector<Vec3f> gather(const TransportPrior &prior, const GBuffer &gb) {
     std::vector<Vec3f> out(gb.n_hits());
@@ -65,15 +54,7 @@ int main(int argc, char **argv) {
     set_log_level(LogLevel::quiet);
     const std::string range = argv[1], cache = argv[2], out_path = argv[3];
     const int size = argc > 4 ? std::atoi(argv[4]) : 96, ref_spp = argc > 5 ? std::atoi(argv[5]) : 1024;
-    std::vector<std::pair<std::string, std::string>> scene_list;   // (name, path; empty path: a seed)
-    if (is_seed_range(range)) {
-        const uint64_t lo = std::stoull(range.substr(0, range.find(':'))), hi = std::stoull(range.substr(range.find(':') + 1));
-        for (uint64_t seed = lo; seed < hi; ++seed) scene_list.emplace_back("seed-" + std::to_string(seed), "");
-    } else {
-        const std::vector<std::string> paths = bench::split_commas(range);
-        const std::vector<std::string> labels = scene_labels(paths);
-        for (size_t i = 0; i < paths.size(); ++i) scene_list.emplace_back(labels[i], paths[i]);
-    }
+    const std::vector<bench::BenchScene> scene_list = bench::bench_scenes(range);
     FILE *out = std::fopen((out_path + ".tmp").c_str(), "w");
     if (!out) {
         std::fprintf(stderr, "prior_features: cannot write %s.tmp\n", out_path.c_str());
@@ -82,8 +63,9 @@ int main(int argc, char **argv) {
     // Per view a line "# view NAME pixels W*H scale S norm r g b", then one line per hit.
     std::fprintf(out, "# columns: pixel ref_r ref_g ref_b e_r e_g e_b e1_r e1_g e1_b eu_r eu_g eu_b closure alb_r alb_g alb_b\n");
     try {
-        for (const auto &[name, path] : scene_list) {
-            const Scene scene = path.empty() ? generate_indoor(GenConfig{}, std::stoull(name.substr(5))).scene : load_scene(path);
+        for (const bench::BenchScene &bs : scene_list) {
+            const std::string &name = bs.name;
+            const Scene scene = bench::load_bench_scene(bs);
             const EmbreeAccel accel(scene);
             const Camera cam = eval_view_camera(scene, 0, 1, size, size);
             const PathTracerConfig cfg = eval_tracer_config(0, EvalRole::reference);
@@ -95,9 +77,9 @@ int main(int argc, char **argv) {
             const ScenePoints sp = sample_scene_points(accel, auto_scene_points(scene), 0, true, k_buried_spacings);
             const size_t m = sp.points.size();
             const float spacing = float(std::sqrt(scene.total_area() / double(m)));
-            const TransportPrior prior = solve_shipped(sp, spacing * spacing, k_bounces);
+            const TransportPrior prior = bench::solve_shipped_prior(sp, spacing * spacing, k_bounces);
             const std::vector<Vec3f> e = gather(prior, gb);
-            const std::vector<Vec3f> e1 = gather(solve_shipped(sp, spacing * spacing, 1), gb);
+            const std::vector<Vec3f> e1 = gather(bench::solve_shipped_prior(sp, spacing * spacing, 1), gb);
             TransportPrior ones = prior;   // exitance 1 everywhere: the gather returns the closure c(p)
             ones.exitance.assign(m, Vec3f{1.f, 1.f, 1.f});
             ones.tree_sums = nullptr;

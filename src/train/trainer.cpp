@@ -273,11 +273,12 @@ TrainStepLog Trainer::train_step() {
         const auto scale = query_scale(sc, idx);
         const auto z = m_model->decode(queries, lat, scale);
         // The step's loss is the mean of the scenes' losses; gradients accumulate scene by scene.
-        auto l = loss(z, sc.target.index_select(0, idx), scale);
+        const auto target = sc.target.index_select(0, idx);
+        auto l = loss(z, target, scale);
         if (m_cfg.region_weight > 0.f)
-            l = l + double(m_cfg.region_weight) *
-                        region_level_loss(torch::expm1(z), normalized_target(sc.target.index_select(0, idx), scale), scale,
-                                          queries.slice(1, 0, 3), double(m_cfg.region_size) * lat.norm.length.item<double>());
+            l = l + double(m_cfg.region_weight) * region_level_loss(torch::expm1(z), normalized_target(target, scale), scale,
+                                                                    queries.slice(1, 0, 3),
+                                                                    double(m_cfg.region_size) * lat.norm.length.item<double>());
         l = l / double(K);
         const double v = l.item<double>();
         if (!std::isfinite(v)) log.skipped = true;
