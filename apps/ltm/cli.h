@@ -96,6 +96,7 @@ struct NeuralRenderArgs {
     std::string glossy = "auto";   ///< conductor shading: auto | trace | head | diffuse (GlossyShading)
     int scene_points = 0;          ///< 0: the model's own M, -1: auto (set_auto_scene_points)
     double prior_theta = -1;       ///< < 0: the model's own (set_prior_theta otherwise)
+    bool prior_rays = false;       ///< --prior-rays: the prior's visibility by rays (set_prior_rays)
     std::string bounce = "auto";   ///< --glossy trace: Ê⁺ at the bounce's hits, auto | nodes | decode (BounceIrradiance)
 };
 
@@ -108,6 +109,10 @@ inline constexpr const char *k_bounce_irradiance_help =
 inline constexpr const char *k_prior_theta_help =
     "The transport prior through its cluster tree with this opening bound (0: the dense rows; 0.5: far light from "
     "aggregates, O(M log M), needed above 32768 scene points; default: the model's own)";
+/// `--prior-rays`' help, shared by render, eval and bake-gi.
+inline constexpr const char *k_prior_rays_help =
+    "The transport prior's visibility and closure by rays against the scene's meshes instead of from its points "
+    "(one ray per term of the prior's tree; implies --prior-theta 0.5 unless given)";
 void run_neural_render(const NeuralRenderArgs &args, const CommonOptions &common);
 
 /// `--scene-points N|auto` on render and bake-gi: N into `dst`, "auto" as -1 (the scene's detail

@@ -29,6 +29,7 @@ struct BakeGiArgs {
     int view_size = 0;
     int spp = 256, direct_spp = 16, scene_points = 0;   // direct_spp: `ltm render`'s default
     double prior_theta = -1;
+    bool prior_rays = false;
     float max_edge = 0.f, exposure = 1.f;
     int64_t max_vertices = 8'000'000;
 };
@@ -47,6 +48,7 @@ void declare(CLI::App &sub, BakeGiArgs &a) {
         ->check(CLI::Range(1, 1 << 20));
     add_scene_points_option(&sub, a.scene_points, "neural");
     sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
+    sub.add_flag("--prior-rays", a.prior_rays, k_prior_rays_help);
     sub.add_option("--max-edge", a.max_edge, "Longest edge after refinement, scene units (0: the scene's largest extent / 64)")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
@@ -67,7 +69,8 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     if (!(a.exposure > 0.f)) LTM_THROW("--exposure ", a.exposure, ": must be > 0");
     if (a.method == "neural" && a.model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
     if (a.method == "pathtrace" && !a.model.empty()) LTM_THROW("--model is only used with --method neural");
-    if (a.method == "pathtrace" && (a.scene_points != 0 || a.prior_theta >= 0)) LTM_THROW("--scene-points and --prior-theta are only used with --method neural");
+    if (a.method == "pathtrace" && (a.scene_points != 0 || a.prior_theta >= 0 || a.prior_rays))
+        LTM_THROW("--scene-points, --prior-theta and --prior-rays are only used with --method neural");
     const std::filesystem::path out(a.output);
     if (out.extension() != ".glb") LTM_THROW(a.output, ": the output must be a .glb file");
     if (out.has_parent_path() && !std::filesystem::is_directory(out.parent_path()))
@@ -92,7 +95,7 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     } else {
 #if LTM_WITH_TORCH
         LoadedModel m = load_model(a.model);
-        if (apply_point_options(m.model, a.scene_points, a.prior_theta) == k_scene_points_auto)
+        if (apply_point_options(m.model, a.scene_points, a.prior_theta, a.prior_rays) == k_scene_points_auto)
             set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
         const EncodedScene enc = encode_scene(m.model, accel, common.seed);
         indirect = predict_gbuffer(m.model, enc, gb);

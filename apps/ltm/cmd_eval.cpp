@@ -28,6 +28,7 @@ struct EvalArgs {
     bool no_grids = false, run_physics = false, physics_only = false, radiance = false;
     int direct_spp = 16, glossy_samples = 0, scene_points = 0;
     double prior_theta = -1;
+    bool prior_rays = false;
     std::string bounce = "auto";
 };
 
@@ -36,6 +37,7 @@ void declare(CLI::App &sub, EvalArgs &a) {
     sub.add_option("--ablation", a.ablations, "More models to compare: NAME=weights.safetensors (repeatable)");
     add_scene_points_option(&sub, a.scene_points, "every model, every scene; auto: each scene its own");
     sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
+    sub.add_flag("--prior-rays", a.prior_rays, k_prior_rays_help);
     sub.add_option("--scenes", a.scenes, "Generator seed ranges A:B and/or scene files (keep seeds disjoint from training)")
         ->required();
     sub.add_option("--gen-config", a.gen_config, "Generator config for seed ranges (default: built-in)");
@@ -96,7 +98,7 @@ void run(const EvalArgs &a, const CommonOptions &common) {
         models.push_back({spec.substr(0, eq), spec.substr(eq + 1), load_model(spec.substr(eq + 1)).model});
     }
     for (auto &m : models) {
-        if (apply_point_options(m.model, a.scene_points, a.prior_theta) == k_scene_points_auto)
+        if (apply_point_options(m.model, a.scene_points, a.prior_theta, a.prior_rays) == k_scene_points_auto)
             m.enable_auto_scene_points(a.prior_theta >= 0);
     }
     // Scenes: seed ranges are generated in memory, files are loaded.

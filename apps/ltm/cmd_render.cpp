@@ -25,6 +25,7 @@ struct RenderArgs {
         scene_points = 0;
     float exposure = 1.f, guide_alpha = 0.25f;
     double prior_theta = -1;
+    bool prior_rays = false;
 };
 
 std::string strip_image_extension(std::string p) {
@@ -62,6 +63,7 @@ void declare(CLI::App &sub, RenderArgs &a) {
         ->check(CLI::Range(0.001, 1.0));
     add_scene_points_option(&sub, a.scene_points, "neural, guided");
     sub.add_option("--prior-theta", a.prior_theta, k_prior_theta_help)->check(CLI::Range(0.0, 1.0));
+    sub.add_flag("--prior-rays", a.prior_rays, k_prior_rays_help);
     sub.add_option("--direct-spp", a.direct_spp, "Shadow-ray samples per pixel for direct light (neural)")
         ->capture_default_str();
     sub.add_option("--direct-estimator", a.direct_estimator,
@@ -90,7 +92,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
         if (a.direct_spp <= 0) LTM_THROW("--direct-spp ", a.direct_spp, ": must be > 0");
         run_neural_render(
             {a.scene, a.camera, a.model, prefix, a.width, a.height, a.direct_spp, a.exposure, true, a.gi_stride,
-             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta, a.bounce},
+             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta, a.prior_rays, a.bounce},
             common);
         return;
     #else
@@ -104,6 +106,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     if (!a.model.empty() && a.method != "guided") LTM_THROW("--model is only used with --method neural or guided");
     if (a.scene_points != 0 && a.method == "pathtrace") LTM_THROW("--scene-points is only used with --method neural or guided");
     if (a.prior_theta >= 0 && a.method == "pathtrace") LTM_THROW("--prior-theta is only used with --method neural or guided");
+    if (a.prior_rays && a.method == "pathtrace") LTM_THROW("--prior-rays is only used with --method neural or guided");
     if (a.gi_stride != 1) LTM_THROW("--gi-stride is only used with --method neural");
     if (a.direct_estimator != "auto") LTM_THROW("--direct-estimator is only used with --method neural");
     if (a.spp <= 0) LTM_THROW("--spp ", a.spp, ": must be > 0");
@@ -121,7 +124,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     GuideBuild guide;
     if (a.method == "guided") {
         LoadedModel m = load_model(a.model);
-        if (apply_point_options(m.model, a.scene_points, a.prior_theta) == k_scene_points_auto)
+        if (apply_point_options(m.model, a.scene_points, a.prior_theta, a.prior_rays) == k_scene_points_auto)
             set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
         GuideBuildOptions go;
         go.points = a.guide_points, go.resolution = a.guide_resolution, go.seed = common.seed;

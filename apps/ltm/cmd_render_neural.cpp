@@ -23,7 +23,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     auto t = Clock::now();
     LoadedModel m = load_model(a.model);
     const double load_model_s = seconds_since(t);
-    const int scene_points = apply_point_options(m.model, a.scene_points, a.prior_theta);   // its bounds fail before the scene loads
+    const int scene_points = apply_point_options(m.model, a.scene_points, a.prior_theta, a.prior_rays);   // its bounds fail before the scene loads
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
     if (glossy == GlossyShading::head && !m.model->directional)
         LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");

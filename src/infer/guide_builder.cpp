@@ -6,6 +6,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
+#include "ltm/infer/neural_renderer.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/farthest_points.h"
 #include "ltm/transport/point_visibility.h"
@@ -24,7 +25,8 @@ GuideBuild build_guide_cache(LtmModel &model, const EmbreeAccel &accel, const Gu
     const ScenePoints sampled = sample_scene_points(accel, model->cfg.scene_points, opt.seed);
     const auto points = point_tensor(sampled.points);
     const Vec3f s = sampled.emission_scale;
-    const SceneLatents lat = model->encode(points, model->scene_geometry(points), torch::tensor({s.x, s.y, s.z}));
+    const SceneLatents lat =
+        model->encode(points, model->scene_geometry(points), torch::tensor({s.x, s.y, s.z}), nullptr, prior_occlusion(model, accel));
     const PointSet &sp = sampled.points;
     const size_t m = sp.size(), c = std::min(m, size_t(opt.points));
     std::vector<float> xyz;

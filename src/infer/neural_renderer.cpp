@@ -15,6 +15,7 @@
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/render/direct_light.h"
+#include "ltm/render/mesh_occlusion.h"
 #include "ltm/render/scene_points.h"
 
 namespace ltm {
@@ -29,6 +30,11 @@ LoadedModel load_model(const std::string &path) {
     m.model = load_weights(path, &m.metadata);
     m.model->eval();
     return m;
+}
+
+std::shared_ptr<const SegmentOcclusion> prior_occlusion(const LtmModel &model, const EmbreeAccel &accel) {
+    if (!model->cfg.physics.prior_rays) return nullptr;
+    return std::make_shared<MeshOcclusion>(accel);
 }
 
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed) {
@@ -49,7 +55,8 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
     {
         torch::NoGradGuard no_grad;
         model->eval();
-        enc.latents = model->encode(points, g, emission_scale);
+        // physics.prior_rays: the prior's visibility by rays against this scene's meshes.
+        enc.latents = model->encode(points, g, emission_scale, nullptr, prior_occlusion(model, accel));
     }
     enc.encode_seconds = seconds_since(t);
     const SceneNormalization &n = enc.latents.norm;
@@ -363,8 +370,9 @@ void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given
     log_info("--scene-points auto: ", m, " scene points for ", scene.n_triangles(), " triangles", tree ? ", the prior through its tree (θ 0.5)" : "");
 }
 
-int apply_point_options(LtmModel &model, int given, double prior_theta) {
+int apply_point_options(LtmModel &model, int given, double prior_theta, bool prior_rays) {
     const int n = given != 0 ? given : model->cfg.auto_scene_points ? int(k_scene_points_auto) : 0;
+    if (prior_rays) set_prior_rays(model);
     if (prior_theta >= 0) set_prior_theta(model, prior_theta);
     if (n > 0) set_scene_points(model, n);
     return n;
@@ -375,6 +383,13 @@ void set_prior_theta(LtmModel &model, double theta) {
     if (model->cfg.physics.prior_field != "transport")
         LTM_THROW("--prior-theta: the model's prior is \"", model->cfg.physics.prior_field, "\", not the transport prior");
     model->cfg.physics.prior_theta = float(theta);
+}
+
+void set_prior_rays(LtmModel &model) {
+    if (model->cfg.physics.prior_field != "transport")
+        LTM_THROW("--prior-rays: the model's prior is \"", model->cfg.physics.prior_field, "\", not the transport prior");
+    model->cfg.physics.prior_rays = true;
+    if (!(model->cfg.physics.prior_theta > 0.f)) model->cfg.physics.prior_theta = 0.5f;   // rays test the tree's terms
 }
 
 }  // namespace ltm

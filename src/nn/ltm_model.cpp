@@ -72,7 +72,8 @@ PointSet scene_point_table(const torch::Tensor &rows) {
 // spacing (measured from them, so the grid does not move with ℓ); with prior_discs, segments are
 // tested against every scene point as a disc of that many spacings instead.
 std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
-                                                      const SceneNormalization &n, const PhysicsConfig &physics) {
+                                                      const SceneNormalization &n, const PhysicsConfig &physics,
+                                                      std::shared_ptr<const SegmentOcclusion> occlusion) {
     torch::NoGradGuard no_grad;
     const int64_t m_all = sp.size(0), k = geometry.groups.size(1);
     const auto framed = torch::cat({(sp.slice(1, 0, 3) - n.center) / n.length, sp.slice(1, 3, 12)}, 1);
@@ -88,6 +89,16 @@ std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, c
     vis.disc_spacings = physics.prior_discs;
     vis.blend = physics.prior_blend;
     vis.open_rays = physics.prior_open_rays;
+    if (physics.prior_rays) {
+        if (!occlusion)
+            LTM_THROW("physics.prior_rays: the transport prior's visibility by rays needs the scene's meshes (render, eval, bake-gi); "
+                      "scene points alone (a training record) have none");
+        // The prior works in the normalised frame: its points map back by centre + ℓ·x.
+        const auto c = n.center.to(torch::kCPU, torch::kFloat32);
+        vis.rays.occlusion = std::make_shared<FramedOcclusion>(std::move(occlusion), Vec3f(c[0].item<float>(), c[1].item<float>(), c[2].item<float>()),
+                                                               n.length.to(torch::kCPU, torch::kFloat32).item<float>());
+        vis.rays.closure_rays = physics.prior_open_rays;
+    }
     const PointSet all = scene_point_table(framed);
     return std::make_shared<const TransportPrior>(
         solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all,
@@ -110,7 +121,7 @@ torch::Tensor output_scale_normalized(const torch::Tensor &q, const SceneNormali
 }  // namespace
 
 SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics,
-                                       const torch::Tensor &emission_scale) {
+                                       const torch::Tensor &emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion) {
     TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
     if (!torch::isfinite(sp).all().item<bool>()) LTM_THROW("scene points contain NaN or Inf");
     if (!(sp.slice(1, 9, 12) >= 0).all().item<bool>()) LTM_THROW("scene point emission must be >= 0");
@@ -147,7 +158,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
         if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(ordered_mean(sp.slice(1, 6, 9)), physics.prior_bounces);
         if (physics.prior_field == "transport") {
             const auto t = std::chrono::steady_clock::now();
-            n.transport = solve_transport(sp, geometry, n, physics);
+            n.transport = solve_transport(sp, geometry, n, physics, std::move(occlusion));
             n.solve_seconds = seconds_since(t);
         }
     }
@@ -191,17 +202,19 @@ SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) co
 }
 
 SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                                             const torch::Tensor &emission_scale) const {
-    SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale);
+                                             const torch::Tensor &emission_scale,
+                                             std::shared_ptr<const SegmentOcclusion> occlusion) const {
+    SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion));
     // The points as queries, so a query at a scene point sees that point's feature.
     if (cfg.prior_inputs) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
     return n;
 }
 
 SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                                  const torch::Tensor &emission_scale, const SceneNormalization *frame) {
+                                  const torch::Tensor &emission_scale, const SceneNormalization *frame,
+                                  std::shared_ptr<const SegmentOcclusion> occlusion) {
     SceneLatents out;
-    out.norm = frame ? *frame : scene_frame(scene_points, geometry, emission_scale);
+    out.norm = frame ? *frame : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion));
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     // (Non-finite scene points take the network's path, which reports them.)

@@ -74,6 +74,8 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_open_rays", &C::prior_open_rays, "rows of the transport prior sum to each receiver's closure from R x R rays per occlusion cluster against the discs (0 = every receiver closed)", between(0, 64))
             .omit_default()
             .field("prior_theta", &C::prior_theta, "the transport prior through its cluster tree with this opening bound (0 = the dense rows)", between(0, 1))
+            .omit_default()
+            .field("prior_rays", &C::prior_rays, "the transport prior's visibility and closure by rays against the scene's meshes (needs prior_theta > 0)")
             .omit_default();
     return f;
 }
@@ -131,6 +133,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                 LTM_THROW(ph.where("prior_open_rays"), ": the open share is measured against the discs: needs prior_discs > 0");
             if (p.prior_discs > 0.f && !(p.prior_visibility > 0.f))
                 LTM_THROW(ph.where("prior_discs"), ": occlusion discs need prior_visibility > 0");
+            if (p.prior_rays && p.prior_field != "transport")
+                LTM_THROW(ph.where("prior_rays"), ": only the \"transport\" prior has visibility");
             if (p.prior_visibility > 0.f && p.prior_field != "transport")
                 LTM_THROW(ph.where("prior_visibility"), ": only the \"transport\" prior has visibility");
             if (p.prior_patches && p.prior_field != "transport")

@@ -163,7 +163,19 @@ void PriorTree::summarise(Node &t) const {
     }
     t.centroid = Vec3f(float(c[0] / double(t.hi - t.lo)), float(c[1] / double(t.hi - t.lo)), float(c[2] / double(t.hi - t.lo)));
     t.radius = 0.f;
-    for (uint32_t k = t.lo; k < t.hi; ++k) t.radius = std::max(t.radius, length(m_pos[k] - t.centroid));
+    float nearest = std::numeric_limits<float>::infinity();
+    for (uint32_t k = t.lo; k < t.hi; ++k) {
+        const float r = length(m_pos[k] - t.centroid);
+        t.radius = std::max(t.radius, r);
+        if (r < nearest) nearest = r, t.representative = k;   // ties: the first place
+    }
+    // The ends of its longest extent: the member farthest from the centroid, and the one farthest from it.
+    float far = -1.f;
+    for (uint32_t k = t.lo; k < t.hi; ++k)
+        if (const float r = length(m_pos[k] - t.centroid); r > far) far = r, t.probe[0] = k;
+    far = -1.f;
+    for (uint32_t k = t.lo; k < t.hi; ++k)
+        if (const float r = length(m_pos[k] - m_pos[t.probe[0]]); r > far) far = r, t.probe[1] = k;
     for (float &v : t.spread) v = 0.f;
     for (float &v : t.tilt) v = 0.f;
     for (uint32_t k = t.lo; k < t.hi; ++k) {
@@ -187,6 +199,16 @@ void PriorTree::summarise(Node &t) const {
         t.thickness = std::max(t.thickness, std::abs(dot(m_pos[k] - t.centroid, axis)));
     }
     t.cos_cone = std::cos(cone), t.sin_cone = std::sin(cone), t.delta = 2.f * std::sin(0.5f * cone);
+}
+
+void PriorTree::set_rays(std::shared_ptr<const SegmentOcclusion> rays, const std::vector<uint8_t> &exact) {
+    if (!exact.empty() && exact.size() != nodes()) LTM_THROW("prior tree: ", exact.size(), " exact flags for ", nodes(), " nodes");
+    m_rays = std::move(rays);
+    for (Node &t : m_tree) {
+        t.keep_exact = false;
+        if (!m_rays || exact.empty()) continue;
+        for (uint32_t k = t.lo; k < t.hi && !t.keep_exact; ++k) t.keep_exact = exact[m_place_node[k]] != 0;
+    }
 }
 
 size_t PriorTree::bytes() const {
@@ -356,13 +378,13 @@ void PriorTree::traverse(const Receiver *receivers, int count, std::vector<Entry
             const f8 corner = m_patches ? 0.7072f * m_side * (c_tilt <= 0.f ? 1.f + zero : across * cb + along * sb) : zero;
             const uint32_t skip = bits((a_hi + corner <= m_coplanar) | (b_mid + b_slack <= 0.f)) & open;
             uint32_t aggregate = 0;
-            if (m_theta > 0.f && s.cos_cone >= k_flat_cos)
+            if (m_theta > 0.f && s.cos_cone >= k_flat_cos && !s.keep_exact)
                 aggregate = bits((s.radius < m_theta * dist) & (dist - s.radius > near_reach) & (a_lo > 0.f) & (b_mid - b_slack > 0.f)) &
                             open & ~skip;
             for (int l = 0; l < k_group; ++l) {
                 if (!(aggregate >> l & 1u)) continue;
-                if (uniform[l]) visit.aggregate(q, l, e.node, w[l], Vec3f(dx[l], dy[l], dz[l]));
-                else aggregate &= ~(1u << l);
+                // A visit may refuse the aggregate (rays that disagree on its visibility): then it is opened.
+                if (!(uniform[l] && visit.aggregate(q, l, e.node, w[l], Vec3f(dx[l], dy[l], dz[l])))) aggregate &= ~(1u << l);
             }
             open &= ~(skip | aggregate);
             if (!open) continue;
@@ -391,7 +413,7 @@ template <class Sink> struct PriorTree::Terms {
     float side, reg, near_reach, scale;
     void visited() {}
     // The expansion of k about the centroid (header): Σ_j k(p_j) x_j ≈ k(c)·f·Σ_j x_j + ∇k(c)·Σ_j x_j e_j.
-    void aggregate(const Lanes &q, int l, uint32_t t, float w, Vec3f d) {
+    bool aggregate(const Lanes &q, int l, uint32_t t, float w, Vec3f d) {
         const Node &s = tree.m_tree[t];
         const Vec3f n = q.n(l);
         const double u = double(dot(d, d));
@@ -424,7 +446,7 @@ template <class Sink> struct PriorTree::Terms {
         // Σ_j x_j k(p_j): A g (−d · Σ_j n_j x_j) + ∇k(c) · Σ_j x_j e_j, ∇k(c) = B g n − A g n̄ + 2 A B g′ d.
         const Vec3f along = d * float(-weight * A * g);
         const Vec3f grad = (n * float(B * g) - mbar * float(A * g) + d * float(2 * A * B * g1)) * float(double(w) * tilt_factor);
-        sink.aggregate(l, t, den, along, grad);
+        return sink.aggregate(l, t, den, along, grad);
     }
     // The dense row's terms (transport_prior.cpp): the point formula, and within 2.5 s the square
     // patch's form factor blended in over r ∈ [1.5 s, 2.5 s]. Member by member, the point formula
@@ -456,13 +478,38 @@ template <class Sink> struct PriorTree::Terms {
     }
 };
 
+// Visibility by rays (header): passes a term on to the Sink only when the segment from its lane's
+// receiver to the term's node (an aggregate's representative) is clear.
+template <class Sink> struct PriorTree::RayFilter {
+    const PriorTree &tree;
+    Sink &sink;
+    const Receiver *receivers;
+    float lift;
+    bool clear(int l, uint32_t place) const {
+        const Receiver &r = receivers[l];
+        return !tree.m_rays->blocked(r.p + r.n * lift, tree.m_pos[place] + tree.m_nrm[place] * lift);
+    }
+    // Visible from the receiver when its representative is; partly visible (refused, so the walk
+    // opens it) when either end of its longest extent disagrees with the representative.
+    bool aggregate(int l, uint32_t t, double den, Vec3f along, Vec3f grad) {
+        const Node &s = tree.m_tree[t];
+        const bool seen = clear(l, s.representative);
+        if (clear(l, s.probe[0]) != seen || clear(l, s.probe[1]) != seen) return false;
+        return seen ? sink.aggregate(l, t, den, along, grad) : true;
+    }
+    void exact(int l, uint32_t place, double wt) {
+        if (clear(l, place)) sink.exact(l, place, wt);
+    }
+};
+
 namespace {
 // Keeps the terms as rows (record, record_group).
 struct RowSink {
     PriorTree::Row *rows;
-    void aggregate(int l, uint32_t t, double den, Vec3f along, Vec3f grad) {
+    bool aggregate(int l, uint32_t t, double den, Vec3f along, Vec3f grad) {
         rows[l].den += den;
         rows[l].aggregates.push_back({t, along, grad});
+        return true;
     }
     void exact(int l, uint32_t place, double wt) {
         rows[l].den += wt;
@@ -474,10 +521,11 @@ struct RowSink {
 struct SumSink {
     const PriorTree::Sums &x;
     double den[PriorTree::k_group], agg[PriorTree::k_group][3], ex[PriorTree::k_group][3];
-    void aggregate(int l, uint32_t t, double d, Vec3f along, Vec3f grad) {
+    bool aggregate(int l, uint32_t t, double d, Vec3f along, Vec3f grad) {
         den[l] += d;
         const Vec3f *dipole = &x.dipole[size_t(t) * 3], *moment = &x.moment[size_t(t) * 3];
         for (int c = 0; c < 3; ++c) agg[l][c] += double(dot(along, dipole[c])) + double(dot(grad, moment[c]));
+        return true;
     }
     void exact(int l, uint32_t place, double wt) {
         den[l] += wt;
@@ -497,7 +545,14 @@ void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Sc
     if (count == 0) return;
     for (int l = 0; l < count; ++l) rows[l].clear();
     RowSink sink{rows};
-    Terms<RowSink> terms{*this, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
+    const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
+    if (m_rays) {
+        RayFilter<RowSink> filter{*this, sink, receivers, ray_lift()};
+        Terms<RayFilter<RowSink>> terms{*this, filter, m_side, m_reg, near_reach, scale};
+        traverse(receivers, count, scratch.stack, terms);
+        return;
+    }
+    Terms<RowSink> terms{*this, sink, m_side, m_reg, near_reach, scale};
     traverse(receivers, count, scratch.stack, terms);
 }
 
@@ -506,8 +561,15 @@ void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x
     if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
     if (count == 0) return;
     SumSink sink{x, {}, {}, {}};
-    Terms<SumSink> terms{*this, sink, m_side, m_reg, 2.5f * m_side, float(k_pi) / (m_side * m_side)};
-    traverse(receivers, count, scratch.stack, terms);
+    const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
+    if (m_rays) {
+        RayFilter<SumSink> filter{*this, sink, receivers, ray_lift()};
+        Terms<RayFilter<SumSink>> terms{*this, filter, m_side, m_reg, near_reach, scale};
+        traverse(receivers, count, scratch.stack, terms);
+    } else {
+        Terms<SumSink> terms{*this, sink, m_side, m_reg, near_reach, scale};
+        traverse(receivers, count, scratch.stack, terms);
+    }
     for (int l = 0; l < count; ++l) {
         den[l] = sink.den[l];
         for (int c = 0; c < 3; ++c) num[l][c] = sink.agg[l][c] + sink.ex[l][c];
@@ -571,7 +633,7 @@ PriorTree::Work PriorTree::count(Vec3f p, Vec3f n, const View &view, Scratch &sc
     struct Visit {
         Work w;
         void visited() { ++w.visited; }
-        void aggregate(const Lanes &, int, uint32_t, float, Vec3f) { ++w.aggregates; }
+        bool aggregate(const Lanes &, int, uint32_t, float, Vec3f) { return ++w.aggregates, true; }
         void exact(const Lanes &, uint32_t, uint32_t lo, uint32_t hi, const float *) { w.exact += hi - lo; }
     } visit;
     const Receiver r{p, n, view};

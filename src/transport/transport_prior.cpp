@@ -274,12 +274,15 @@ std::vector<Vec3f> dense_bounces(const std::vector<Vec3f> &position, const std::
 // apply the recorded rows instead of walking the tree again; rows beyond the budget are walked
 // again. The result is the same either way. Same outputs as dense_bounces.
 
+// ray_closure: with visibility by rays, each node's closure measured by rays ([m]); empty: from vis.
 std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                 const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance, int bounces,
-                                const ClusterVisibility &vis, bool want_mean, Vec3f &mean_e, size_t row_budget) {
+                                const ClusterVisibility &vis, bool want_mean, Vec3f &mean_e, size_t row_budget,
+                                const std::vector<float> &ray_closure) {
     const size_t m = position.size();
     std::vector<double> den(m, 0.0);
     std::vector<float> closure(m, 1.f);
+    const bool rays = !ray_closure.empty();
     std::vector<Vec3f> bk(m), ex(m, Vec3f(0.f)), next(m), at_node(m);
     for (size_t j = 0; j < m; ++j) bk[j] = radiance[j] * float(k_pi);
     std::vector<PriorTree::Row> rows(m);
@@ -312,7 +315,8 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
                         gather(j, num);
                         continue;
                     }
-                    const float c = bv[count].set(vis, position[j], normal[j], vis.empty() ? nullptr : &vis.node_cluster[j]);
+                    const float c = rays ? (bv[count].view = {}, ray_closure[j])
+                                         : bv[count].set(vis, position[j], normal[j], vis.empty() ? nullptr : &vis.node_cluster[j]);
                     if (first) closure[j] = c;
                     rc[count] = {position[j], normal[j], bv[count].view};
                     walk[count++] = j;
@@ -355,7 +359,7 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
                                      float node_area, int bounces, ClusterVisibility visibility, PriorBalance balance,
-                                     bool patches, float theta, size_t row_budget) {
+                                     bool patches, float theta, size_t row_budget, const PriorRays &rays) {
     const size_t m = position.size();
     if (m == 0) LTM_THROW("transport prior: no nodes");
     if (normal.size() != m || albedo.size() != m || radiance.size() != m)
@@ -364,6 +368,9 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     if (!(node_area > 0.f) || !std::isfinite(node_area)) LTM_THROW("transport prior: node area must be > 0, got ", node_area);
     if (bounces < 0) LTM_THROW("transport prior: bounces must be >= 0, got ", bounces);
     if (!(theta >= 0.f) || !(theta <= 1.f)) LTM_THROW("transport prior: theta must be in [0, 1], got ", theta);
+    if (rays && !(theta > 0.f)) LTM_THROW("transport prior: visibility by rays goes through the cluster tree: needs theta > 0");
+    if (rays && (rays.closure_rays < 0 || rays.closure_rays > 64))
+        LTM_THROW("transport prior: closure rays per side must be in [0, 64], got ", rays.closure_rays);
     if (!visibility.empty() && visibility.node_cluster.size() != m)
         LTM_THROW("transport prior: visibility for ", visibility.node_cluster.size(), " nodes, not ", m);
     TransportPrior out;
@@ -372,14 +379,27 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
     const ClusterVisibility &vis = out.visibility;
     if (theta > 0.f) {
         const auto t0 = std::chrono::steady_clock::now();
-        out.tree = std::make_shared<const PriorTree>(position, normal, vis, node_area, patches, theta);
+        auto tree = std::make_shared<PriorTree>(position, normal, vis, node_area, patches, theta);
+        if (rays) {   // the emitters never aggregated (PriorTree::set_rays)
+            std::vector<uint8_t> emitter(m, 0);
+            for (size_t j = 0; j < m; ++j) emitter[j] = max_component(radiance[j]) > 0.f;
+            tree->set_rays(rays.occlusion, emitter);
+        }
+        out.tree = std::move(tree);
+        out.rays = rays;
         log_debug("prior tree: built over ", m, " nodes in ", seconds_since(t0), " s (", out.tree->bytes() >> 20, " MB)");
     }
     out.exitance.assign(m, Vec3f(0.f));
     if (bounces == 0) return out;
-    const bool balanced = !vis.empty() && balance != PriorBalance::none;
+    const bool balanced = (!vis.empty() || rays) && balance != PriorBalance::none;
     Vec3f mean_e(0.f);
-    std::vector<Vec3f> ex = out.tree ? tree_bounces(*out.tree, position, normal, albedo, radiance, bounces, vis, balanced, mean_e, row_budget)
+    std::vector<float> closure;
+    if (rays) {
+        closure.assign(m, 1.f);
+        if (rays.closure_rays > 0)
+            ray_closures(*rays.occlusion, &position[0].x, &normal[0].x, 3, m, out.tree->ray_lift(), rays.closure_rays, closure.data());
+    }
+    std::vector<Vec3f> ex = out.tree ? tree_bounces(*out.tree, position, normal, albedo, radiance, bounces, vis, balanced, mean_e, row_budget, closure)
                                      : dense_bounces(position, normal, albedo, radiance, node_area, bounces, vis, patches, balanced, mean_e);
     Vec3f gain(1.f);
     if (balanced) {
@@ -456,7 +476,8 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     if (vis.open_rays > 0 && v.closure.empty()) LTM_THROW("transport prior: open_rays needs occlusion by discs");
     v.blend = vis.blend;
     const auto t1 = Clock::now();
-    TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches, theta);
+    TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches, theta,
+                                               k_prior_row_budget, vis.rays);
     log_debug("transport prior: ", m, " nodes; spacing ", t_spacing, " s, clusters and visibility ",
               std::chrono::duration<double>(t1 - t0).count() - t_spacing, " s, solve ",
               seconds_since(t1), " s");
@@ -476,6 +497,15 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
         // receiver's row is what it would be alone, so the order changes no bit of the answer.
         constexpr int G = PriorTree::k_group;
         const std::vector<uint32_t> order = PriorTree::group_order(position, normal, stride, n);
+        // Visibility by rays: each receiver's closure by rays, no cluster views (the tree tests its terms).
+        const bool rays = prior.tree->has_rays();
+        std::vector<float> ray_closure;
+        if (rays) {
+            ray_closure.assign(n, 1.f);
+            if (prior.rays.closure_rays > 0)
+                ray_closures(*prior.rays.occlusion, position, normal, stride, n, prior.tree->ray_lift(), prior.rays.closure_rays,
+                             ray_closure.data());
+        }
         const int64_t groups = int64_t((n + G - 1) / G);
         parallel_for(0, groups, 32, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
@@ -489,7 +519,7 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                     const size_t q = order[first + size_t(l)];
                     const float *pp = position + q * stride, *pn = normal + q * stride;
                     const Vec3f p(pp[0], pp[1], pp[2]), nq(pn[0], pn[1], pn[2]);
-                    closure[l] = bv[l].set(vis, p, nq, nullptr);
+                    closure[l] = rays ? (bv[l].view = {}, ray_closure[q]) : bv[l].set(vis, p, nq, nullptr);
                     rc[l] = {p, nq, bv[l].view};
                 }
                 double den[G], num[G][3];

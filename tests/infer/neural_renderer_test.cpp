@@ -10,8 +10,10 @@
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/infer/traced_bounce.h"
 #include "ltm/nn/checkpoint.h"
+#include "ltm/nn/point_tensor.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/interaction.h"
+#include "ltm/render/scene_points.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/pbrt_reader.h"
 #include "ltm/scene/scene_loader.h"
@@ -333,6 +335,46 @@ TEST(NeuralRenderer, CentimetreZUpTwinPredictsWhatTheMetricSceneDoes) {
     }
     old->eval();
     EXPECT_GT(difference(old), 0.05);
+}
+
+// The prior's visibility by rays (--prior-rays, physics.prior_rays): it follows the scene under a
+// change of unit and axes as the points' visibility does (rays are lifted relative to the points'
+// spacing, the segments' ends trimmed relative to their length); it changes the answer (the test can
+// tell it is used); and scene points without meshes (a record) are refused with a one-line error.
+TEST(NeuralRenderer, PriorRaysFollowTheSceneAndNeedItsMeshes) {
+    const Scene metric = parse_pbrt(test::pbrt_text(cornell_box()), "metric.pbrt", ".");
+    const Scene twin = parse_pbrt(test::pbrt_text(cornell_box(), 100.f, /*z_up=*/true), "twin.pbrt", ".");
+    LtmModel rays = load_weights(test::source_path("models/ltm-cpu.safetensors"));
+    LtmModel points = load_weights(test::source_path("models/ltm-cpu.safetensors"));
+    rays->eval(), points->eval();
+    set_prior_rays(rays);
+    EXPECT_TRUE(rays->cfg.physics.prior_rays);
+    EXPECT_EQ(rays->cfg.physics.prior_theta, 0.5f);   // rays test the tree's terms
+    set_prior_theta(points, 0.5);
+    std::vector<Vec3f> e[3];
+    const Scene *scenes[3] = {&metric, &twin, &metric};
+    for (int i = 0; i < 3; ++i) {
+        const EmbreeAccel accel(*scenes[i]);
+        Camera cam = scenes[i]->cameras[0];
+        cam.width = cam.height = 24;
+        LtmModel &model = i < 2 ? rays : points;
+        e[i] = predict_gbuffer(model, encode_scene(model, accel, /*seed=*/1), render_gbuffer(accel, cam));
+    }
+    ASSERT_EQ(e[0].size(), e[1].size());
+    ASSERT_EQ(e[0].size(), e[2].size());
+    double twin_diff = 0, ray_diff = 0, mean = 0;
+    for (size_t k = 0; k < e[0].size(); ++k)
+        for (int c = 0; c < 3; ++c)
+            twin_diff += std::abs(e[1][k][c] - e[0][k][c]), ray_diff += std::abs(e[2][k][c] - e[0][k][c]), mean += e[0][k][c];
+    EXPECT_GT(mean, 0.0);
+    std::cout << "prior rays: cm z-up twin differs by " << twin_diff / mean << ", the points' visibility by " << ray_diff / mean << "\n";
+    EXPECT_LT(twin_diff / mean, 0.02);
+    EXPECT_GT(ray_diff / mean, 0.03);
+    // Scene points alone (no meshes to trace): a one-line error, not an unoccluded prior.
+    const EmbreeAccel accel(metric);
+    const ScenePoints sp = sample_scene_points(accel, rays->cfg.scene_points, 1);
+    const auto pts = point_tensor(sp.points);
+    EXPECT_THROW(rays->encode(pts, rays->scene_geometry(pts)), Error);
 }
 
 // Conductors with a directional head (paper Fig. 11): direct light by NEE + BSDF sampling, the

@@ -51,7 +51,12 @@ void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given
 /// gave one, else k_scene_points_auto for a model whose config asks for it
 /// (ModelConfig::auto_scene_points), else 0 (the model's own M). On k_scene_points_auto the caller
 /// calls set_auto_scene_points once the scene is loaded (eval: EvalModel::enable_auto_scene_points).
-int apply_point_options(LtmModel &model, int given, double prior_theta);
+/// prior_rays (`--prior-rays`): set_prior_rays first, so an explicit θ still overrides its 0.5.
+int apply_point_options(LtmModel &model, int given, double prior_theta, bool prior_rays = false);
+/// `--prior-rays`: the transport prior's visibility and closure by rays against the scene's meshes
+/// (physics.prior_rays), through its cluster tree (θ 0.5 unless the model already has a θ > 0).
+/// Throws a one-line error for a model without the transport prior.
+void set_prior_rays(LtmModel &model);
 
 struct EncodedScene {
     SceneLatents latents;
@@ -64,6 +69,9 @@ struct EncodedScene {
 /// same sampler, stream, enclosed-surface filter and exact emission scale) with `seed`, then
 /// FPS/kNN and the encoder. Independent of any camera.
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);
+/// The occlusion the model's prior traces against when physics.prior_rays is set (the scene's meshes,
+/// render/mesh_occlusion.h; `accel` must outlive the latents); null otherwise.
+std::shared_ptr<const SegmentOcclusion> prior_occlusion(const LtmModel &model, const EmbreeAccel &accel);
 
 /// Ê⁺ at the G-buffer's hit points (normal on the side facing the eye).  -> one Vec3f per hit.
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,

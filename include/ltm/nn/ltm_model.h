@@ -66,8 +66,11 @@ struct SceneLatents {
 ///   scene_points [M, 12] raw, geometry of the same points, emission_scale [3] or undefined -> SceneNormalization
 /// S = emission_scale when defined (exact Φ/A of the meshes), else π · mean emission of the points.
 /// Throws ltm::Error on non-finite points, negative emission or a scene of zero extent.
+/// occlusion: the scene's meshes for physics.prior_rays (transport/segment_occlusion.h, in the
+/// scene's own frame); required with prior_rays, unused without.
 SceneNormalization scene_normalization(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                                       const PhysicsConfig &physics, const torch::Tensor &emission_scale = {});
+                                       const PhysicsConfig &physics, const torch::Tensor &emission_scale = {},
+                                       std::shared_ptr<const SegmentOcclusion> occlusion = {});
 /// Model inputs in the normalised frame: (p − centre)/ℓ, n, albedo, log1p(e / S).
 ///   scene_points [M, 12] -> [M, 12]
 torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const SceneNormalization &norm);
@@ -92,13 +95,16 @@ struct LtmModelImpl : torch::nn::Module {
     /// prior_inputs the prior at every scene point (point_prior).
     ///   scene_points [M, 12] raw, emission_scale [3] (optional) -> SceneNormalization
     SceneNormalization scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                                   const torch::Tensor &emission_scale = {}) const;
+                                   const torch::Tensor &emission_scale = {},
+                                   std::shared_ptr<const SegmentOcclusion> occlusion = {}) const;
     //   scene_points [M, 12] raw, emission_scale [3] (S = Φ/A, optional) -> latents at m anchors
     /// frame: scene_frame() computed beforehand for these very points, so the prior is not solved
     /// again (the trainer's cache: it solves once per scene and moves the frame with its
     /// symmetries); null: computed here.
+    /// occlusion: the scene's meshes, for physics.prior_rays (scene_normalization).
     SceneLatents encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
-                        const torch::Tensor &emission_scale = {}, const SceneNormalization *frame = nullptr);
+                        const torch::Tensor &emission_scale = {}, const SceneNormalization *frame = nullptr,
+                        std::shared_ptr<const SegmentOcclusion> occlusion = {});
     //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺ / output_scale); kNN among anchors computed here.
     /// scale: output_scale(query_points, latents.norm) when already known ([N, 3], or [3] for the
     /// flat prior); read only with prior_inputs, as the queries' prior input; undefined: gathered

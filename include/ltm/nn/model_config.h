@@ -144,6 +144,12 @@ struct PhysicsConfig {
     /// bound (transport/prior_hierarchy.h: far nodes as aggregates, O(M log M)); 0 = the dense rows.
     /// A run-time setting, not a trained one: `ltm render --prior-theta` overrides it.
     float prior_theta = 0.f;
+    /// The transport prior's visibility and closure by rays against the scene's meshes instead of
+    /// from the points (transport/segment_occlusion.h; every term of the tree's rows tested by one
+    /// ray, each receiver's closure by prior_open_rays² rays). Needs prior_theta > 0 and the meshes:
+    /// render, eval and bake-gi have them (`--prior-rays`); records for training do not. A run-time
+    /// setting, like prior_theta.
+    bool prior_rays = false;
 
     static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1, false, 0, 0.f}; }
     /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.

@@ -29,6 +29,7 @@
 
 #include "ltm/core/math.h"
 #include "ltm/transport/disc_occluder.h"
+#include "ltm/transport/segment_occlusion.h"
 #include "ltm/points/point_grid.h"
 
 namespace ltm {
@@ -88,6 +89,10 @@ struct VisibilityOptions {
     /// open share: a window to nothing, an open side); a receiver's row of the prior then sums to its
     /// blended c instead of 1 (transport/transport_prior.h). Needs discs. 0 = every receiver closed (v0.11).
     int open_rays = 0;
+    /// Set: the prior's rows and gather take their visibility and closure from rays instead
+    /// (transport/segment_occlusion.h, through the cluster tree: needs θ > 0); the clusters above are
+    /// still built for the directional gather (gather_transport_prior_radiance).
+    PriorRays rays;
 };
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th

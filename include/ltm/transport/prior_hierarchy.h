@@ -41,6 +41,18 @@
 // visited, and a leaf's nodes are summed exactly, near field included. θ = 0 never aggregates:
 // every node is summed exactly, as in the dense row.
 //
+// Visibility by rays (set_rays: transport/segment_occlusion.h, the meshes' own occlusion): every
+// term a walk emits is kept only when its segment is clear — an exactly summed node's from the
+// receiver to the node; an aggregate's from the receiver to its representative (the member nearest
+// its centroid), as Lightcuts (Walter et al. 2005) tests a cluster of lights by one shadow ray to its
+// representative, and to the two ends of its longest extent: where they disagree the subtree is
+// partly visible and is opened instead (hierarchical radiosity refines partly visible links,
+// Hanrahan, Salzman & Aupperle 1991) — one ray alone let a floor subtree spanning two rooms through
+// a doorway light the wrong room (house 900103: 0.0048 → 0.0086; with the ends 0.00xx). Both ends of
+// each ray are lifted 10⁻³ s off their surfaces. Receivers walk with views of K = 0 (no clusters).
+// Flagged nodes (the emitters, set_rays) are never aggregated: a lamp under its ceiling would
+// otherwise share a ray with the ceiling behind it.
+//
 // Up to k_group = 8 receivers walk the tree together (record_group, gather_group): each makes its
 // own decisions, its bounds computed beside the others' in SIMD lanes, and the walk's node fetches
 // and stack are shared while any of them descends. Every receiver's row is the one it gets alone,
@@ -49,11 +61,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "ltm/core/math.h"
 #include "ltm/transport/point_visibility.h"
+#include "ltm/transport/segment_occlusion.h"
 
 namespace ltm {
 
@@ -73,6 +87,16 @@ public:
     /// theta ≥ 0: the opening bound (0: exact). Throws ltm::Error on mismatched sizes or θ < 0.
     PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal, const ClusterVisibility &vis,
               float node_area, bool patches, float theta);
+
+    /// Visibility by rays from now on (header): every term's segment tested against `rays`; null: the
+    /// clusters' visibility of the receivers' views, as before. exact [m] (caller's node order, or
+    /// empty): nodes never aggregated while rays are on — the emitters: a lamp hangs just below its
+    /// ceiling, and a subtree of both, tested by one ray to a ceiling node behind the lamp, would drop
+    /// the lamp with it (the Cornell box's level 0.90). Throws ltm::Error on a wrong size.
+    void set_rays(std::shared_ptr<const SegmentOcclusion> rays, const std::vector<uint8_t> &exact = {});
+    bool has_rays() const { return bool(m_rays); }
+    /// The lift of the rays' ends off their surfaces: 10⁻³ of the nodes' spacing √a.
+    float ray_lift() const { return 1e-3f * m_side; }
 
     bool empty() const { return m_place_node.empty(); }
     size_t nodes() const { return m_place_node.size(); }
@@ -175,8 +199,12 @@ private:
         int32_t child[2] = {-1, -1};   ///< −1: a leaf (≤ 8 places)
         int32_t cluster = -1;          ///< the one cluster under it; −1 above the clusters
         int32_t upper = -1;            ///< its index in m_upper (a cluster's root or above); −1 below
+        uint32_t representative = 0;   ///< the place of its member nearest the centroid (its rays' end)
+        uint32_t probe[2] = {0, 0};    ///< the places at the ends of its longest extent (partial visibility's test)
+        bool keep_exact = false;       ///< set_rays: holds a node never aggregated
     };
     template <class Sink> struct Terms;
+    template <class Sink> struct RayFilter;
     /// The walk of count ≤ k_group receivers (one alone: count 1) that visit's callbacks record.
     template <class Visit> void traverse(const Receiver *receivers, int count, std::vector<Entry> &stack, Visit &&visit) const;
     int32_t build(uint32_t lo, uint32_t hi, std::vector<uint32_t> &items, bool clusters, const std::vector<Vec3f> &pos,
@@ -197,6 +225,7 @@ private:
     float m_coplanar = 0.f;
     bool m_patches = false;
     size_t m_clusters = 0;                 ///< C (1 without occlusion)
+    std::shared_ptr<const SegmentOcclusion> m_rays;   ///< set_rays: visibility by rays; null: by clusters
 };
 
 }  // namespace ltm

@@ -41,6 +41,14 @@
 // receiver (s = √a) weigh by the exact form factor F_j of a square of side s
 // (transport/patch_form_factor.h), as t_j = F_j · π/a — the point term's scale — blended into the
 // point formula over r ∈ [1.5 s, 2.5 s]. In the solve and the gather alike.
+//
+// Visibility by rays (`rays`, transport/segment_occlusion.h; `--prior-rays`): the points' clusters
+// decide visibility for ~1 024 cluster pairs, and they are too coarse for furniture, partitions and
+// the foot of a wall (the real rooms' largest error, docs/results.md session 27). With a ray tracer
+// at hand (the renderer has the meshes) every term of a receiver's row through the tree is tested by
+// one ray instead (prior_hierarchy.h), and its closure by R² rays; the emitters are never
+// aggregated. Rays are geometry, not illumination: the same shadow rays the renderer casts for
+// direct light.
 #pragma once
 
 #include <cstddef>
@@ -73,6 +81,9 @@ struct TransportPrior {
     /// The exitance summed over the tree (PriorTree::sums), once per solve: every gather call (the
     /// model calls it per chunk of queries) reads it.
     std::shared_ptr<const PriorTree::Sums> tree_sums;
+    /// Visibility by rays (solve_transport_prior's `rays`): the tree's terms are tested by rays and
+    /// each receiver's closure is measured by rays; the clusters above serve only the directional gather.
+    PriorRays rays;
 };
 
 /// The tree solve's first bounce records each node's row (~9 KB a node in a house at m = 65 536) and
@@ -87,12 +98,14 @@ inline constexpr size_t k_prior_row_budget = size_t(768) << 20;
 /// cluster tree (transport/prior_hierarchy.h) with that opening bound, O(m log m) per bounce, O(m)
 /// memory; the gather then uses the tree too. Deterministic at any thread count. Throws ltm::Error
 /// on mismatched sizes, no nodes, node_area ≤ 0, bounces < 0 or theta outside [0, 1].
-/// row_budget: the tree solve's recorded rows (k_prior_row_budget).
+/// row_budget: the tree solve's recorded rows (k_prior_row_budget). rays: visibility and closure by
+/// rays against the scene (transport/segment_occlusion.h; the tree's every term tested, header of
+/// prior_hierarchy.h) instead of by `visibility`'s clusters; needs theta > 0.
 TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
                                      const std::vector<Vec3f> &albedo, const std::vector<Vec3f> &radiance,
                                      float node_area, int bounces, ClusterVisibility visibility = {},
                                      PriorBalance balance = PriorBalance::per_channel, bool patches = false,
-                                     float theta = 0.f, size_t row_budget = k_prior_row_budget);
+                                     float theta = 0.f, size_t row_budget = k_prior_row_budget, const PriorRays &rays = {});
 
 /// Every scene point a node: scene_points [M, 12] (scene_point_columns()), node_area = A / M. With
 /// `emission_scale` (S_c = Φ_c/A, exact from the meshes) the points' radiance is rescaled per
