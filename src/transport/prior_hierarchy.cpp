@@ -19,6 +19,9 @@ constexpr uint32_t k_leaf = 8;   // nodes per leaf at most
 // 0.6 rad: on the staircase at 16 384 points, 822 → 719 exactly summed nodes per receiver against
 // 0.3 rad, the gather's difference to the dense rows 0.17 % → 0.15 % RMS (0.8 rad: 700, 0.15 %).
 constexpr float k_flat_cos = 0.8253356f;   // cos 0.6
+// Visibility by rays: a group's lane reuses another lane's ray to the same term when their receivers
+// lie within this share of the distance to it (RayFilter).
+constexpr float k_ray_share = 0.05f;
 
 // Which way a normal faces most: 2a for +axis a, 2a + 1 for −axis a.
 int facing_class(Vec3f n) {
@@ -480,25 +483,60 @@ template <class Sink> struct PriorTree::Terms {
 
 // Visibility by rays (header): passes a term on to the Sink only when the segment from its lane's
 // receiver to the term's node (an aggregate's representative) is clear.
+// With logs (record_group's RayLog), each decision is recorded, or replayed from a complete log.
 template <class Sink> struct PriorTree::RayFilter {
     const PriorTree &tree;
     Sink &sink;
     const Receiver *receivers;
     float lift;
+    RayLog *logs = nullptr;
+    size_t read[k_group] = {};
+    // The walk meets a term for its lanes one after another. A lane whose receiver lies within
+    // k_ray_share of the distance to the term from the lane that last traced it takes that lane's
+    // answer: the two segments differ by less than k_ray_share radians, and a group's receivers are
+    // neighbours (a leaf's patch, a tile of pixels), so far terms cost one ray per group, not per lane.
+    struct Last {
+        int lane = -1;
+        uint32_t key = ~0u;
+        uint8_t decision = 0;
+    } last;
     bool clear(int l, uint32_t place) const {
         const Receiver &r = receivers[l];
         return !tree.m_rays->blocked(r.p + r.n * lift, tree.m_pos[place] + tree.m_nrm[place] * lift);
+    }
+    template <class Trace> uint8_t shared(int l, uint32_t key, Vec3f target, Trace trace) {
+        if (last.key == key && last.lane >= 0) {
+            const Vec3f from = receivers[last.lane].p;
+            if (length(receivers[l].p - from) < k_ray_share * length(target - from)) return last.decision;
+        }
+        last = {l, key, trace()};
+        return last.decision;
+    }
+    template <class Decide> uint8_t decision(int l, Decide decide) {
+        if (!logs) return decide();
+        RayLog &log = logs[l];
+        if (log.complete) return log.decisions[read[l]++];
+        const uint8_t d = decide();
+        log.decisions.push_back(d);
+        return d;
     }
     // Visible from the receiver when its representative is; partly visible (refused, so the walk
     // opens it) when either end of its longest extent disagrees with the representative.
     bool aggregate(int l, uint32_t t, double den, Vec3f along, Vec3f grad) {
         const Node &s = tree.m_tree[t];
-        const bool seen = clear(l, s.representative);
-        if (clear(l, s.probe[0]) != seen || clear(l, s.probe[1]) != seen) return false;
-        return seen ? sink.aggregate(l, t, den, along, grad) : true;
+        const uint8_t d = decision(l, [&] {
+            return shared(l, t | 0x80000000u, s.centroid, [&]() -> uint8_t {
+                const bool seen = clear(l, s.representative);
+                if (clear(l, s.probe[0]) != seen || clear(l, s.probe[1]) != seen) return 2;
+                return seen ? 1 : 0;
+            });
+        });
+        if (d == 2) return false;
+        return d == 1 ? sink.aggregate(l, t, den, along, grad) : true;
     }
     void exact(int l, uint32_t place, double wt) {
-        if (clear(l, place)) sink.exact(l, place, wt);
+        if (decision(l, [&] { return shared(l, place, tree.m_pos[place], [&]() -> uint8_t { return clear(l, place) ? 1 : 0; }); }))
+            sink.exact(l, place, wt);
     }
 };
 
@@ -541,15 +579,21 @@ void PriorTree::record(Vec3f p, Vec3f n, const View &view, Row &row, Scratch &sc
 }
 
 void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Scratch &scratch) const {
+    record_group(receivers, count, rows, scratch, nullptr);
+}
+
+void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Scratch &scratch, RayLog *logs) const {
     if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
     if (count == 0) return;
     for (int l = 0; l < count; ++l) rows[l].clear();
     RowSink sink{rows};
     const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
     if (m_rays) {
-        RayFilter<RowSink> filter{*this, sink, receivers, ray_lift()};
+        RayFilter<RowSink> filter{*this, sink, receivers, ray_lift(), logs};
         Terms<RayFilter<RowSink>> terms{*this, filter, m_side, m_reg, near_reach, scale};
         traverse(receivers, count, scratch.stack, terms);
+        if (logs)
+            for (int l = 0; l < count; ++l) logs[l].complete = true;
         return;
     }
     Terms<RowSink> terms{*this, sink, m_side, m_reg, near_reach, scale};

@@ -287,6 +287,12 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
     for (size_t j = 0; j < m; ++j) bk[j] = radiance[j] * float(k_pi);
     std::vector<PriorTree::Row> rows(m);
     std::vector<uint8_t> kept(m, 0);
+    // With visibility by rays, a row the budget does not keep replays its first walk's decisions
+    // instead of tracing them again at every bounce (PriorTree::RayLog: a byte a term, not a row's ~20).
+    std::vector<PriorTree::RayLog> logs(rays ? m : 0);
+    auto logs_free = [&](size_t j) {   // a kept row needs no log
+        if (!logs.empty()) logs[j] = PriorTree::RayLog{};
+    };
     std::atomic<size_t> kept_bytes{0};
     // One pass: every node's row against the values x; the first also keeps each row's sum and
     // closure and records the rows. Nodes walk the tree in groups of k_group consecutive places
@@ -322,16 +328,22 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
                     walk[count++] = j;
                 }
                 if (count == 0) continue;
-                tree.record_group(rc, count, scratch.rows, scratch);
+                PriorTree::RayLog *group_logs = nullptr, gl[G];
+                if (rays) {   // the walkers' logs, moved in and back (their places are not consecutive)
+                    for (int l = 0; l < count; ++l) gl[l] = std::move(logs[walk[l]]);
+                    group_logs = gl;
+                }
+                tree.record_group(rc, count, scratch.rows, scratch, group_logs);
                 for (int l = 0; l < count; ++l) {
                     const size_t j = walk[l];
+                    if (rays) logs[j] = std::move(gl[l]);
                     const PriorTree::Row &row = scratch.rows[l];
                     double num[3];
                     tree.apply(row, sums, num);
                     if (first) {
                         den[j] = row.den;
                         const size_t bytes = row.bytes();
-                        if (kept_bytes.fetch_add(bytes) + bytes <= row_budget) rows[j] = row, kept[j] = 1;
+                        if (kept_bytes.fetch_add(bytes) + bytes <= row_budget) rows[j] = row, kept[j] = 1, logs_free(j);
                     }
                     gather(j, num);
                 }

@@ -5,6 +5,7 @@
 // form factor's complement; deterministic at any thread count; bad input.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 
 #include "ltm/core/error.h"
@@ -207,6 +208,30 @@ TEST(PriorRays, SameAtAnyThreadCount) {
     const auto one = test::gather(solve(pts, 0.09f, std::make_shared<Wall>(1.7f)), qp, qn);
     set_num_threads(threads);
     EXPECT_EQ(one, many);
+}
+
+// Rows beyond the solve's budget are walked again at every bounce; with rays they replay their first
+// walk's decisions (PriorTree::RayLog) instead of tracing again: no rows kept, or all, give the same
+// exitance to the bit, and the replay traces nothing.
+TEST(PriorRays, ReplayedRowsAreTheTracedOnes) {
+    struct Counting final : SegmentOcclusion {
+        mutable std::atomic<uint64_t> segments{0};
+        Wall wall{3.1f};
+        bool blocked(Vec3f a, Vec3f b) const override { return ++segments, wall.blocked(a, b); }
+        bool meets(Vec3f, Vec3f) const override { return true; }
+    };
+    const Points pts = two_closed_rooms(8, true);
+    auto solve_with = [&](size_t budget, const std::shared_ptr<Counting> &occ) {
+        PriorRays rays;
+        rays.occlusion = occ, rays.closure_rays = 0;
+        return solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 9.f / 64.f, 5, {}, PriorBalance::none, true, 0.5f, budget, rays);
+    };
+    const auto kept = std::make_shared<Counting>(), walked = std::make_shared<Counting>();
+    const TransportPrior a = solve_with(k_prior_row_budget, kept), b = solve_with(0, walked);
+    for (size_t j = 0; j < a.exitance.size(); ++j)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(a.exitance[j][c], b.exitance[j][c]) << j;
+    EXPECT_GT(kept->segments.load(), 0u);
+    EXPECT_EQ(walked->segments.load(), kept->segments.load());   // the later bounces traced nothing
 }
 
 TEST(PriorRays, BadInputIsAnError) {

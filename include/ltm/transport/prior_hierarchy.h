@@ -175,6 +175,19 @@ public:
     const std::vector<uint32_t> &place_nodes() const { return m_place_node; }
     void apply(const Row &row, const Sums &x, double num[3]) const;
 
+    /// A receiver's ray decisions in the order its walk meets its terms (visibility by rays): the
+    /// solve walks again, at every bounce, the rows its budget does not keep; a log taken on the
+    /// first walk replays the same decisions without tracing (the walk is deterministic, so its
+    /// terms come in the same order). One byte a term: 0 blocked, 1 clear, 2 opened (partly visible).
+    struct RayLog {
+        std::vector<uint8_t> decisions;
+        bool complete = false;   ///< false: the next walk records; true: it replays
+        size_t bytes() const { return decisions.capacity(); }
+    };
+    /// record_group() with ray logs (logs[l] for receiver l): each log records its walk's decisions,
+    /// or replays them once complete. Rows bit for bit those of record_group(). Without rays: as it.
+    void record_group(const Receiver *receivers, int count, Row *rows, Scratch &scratch, RayLog *logs) const;
+
     /// Counters of the last rows (a sampling of the work, not thread-safe: for benches and tests).
     struct Work {
         uint64_t visited = 0, aggregates = 0, exact = 0;   ///< tree nodes popped, aggregates used, nodes summed exactly
