@@ -263,6 +263,15 @@ TEST(BadInput, ScenePointsOutOfBoundsIsOneLineNamingTheLimit) {
     const Result p = run({"render", "builtin:cornell-box", "--prior-theta", "0.5", "--width", "16", "--height", "16", "-o", dir.path("r")});
     EXPECT_EQ(p.code, 1) << p.err;
     EXPECT_NE(p.err.find("--prior-theta is only used with --method neural"), std::string::npos) << p.err;
+    const Result rp = run({"render", "builtin:cornell-box", "--prior-rays", "--width", "16", "--height", "16", "-o", dir.path("r")});
+    EXPECT_EQ(rp.code, 1) << rp.err;
+    EXPECT_NE(rp.err.find("--prior-rays is only used with --method neural"), std::string::npos) << rp.err;
+    // Rays test the terms of the prior's tree: an explicit θ 0 (the dense rows) is refused, in one line.
+    const Result r0 = run({"render", "builtin:cornell-box", "--method", "neural", "--model", test::source_path("models/ltm-cpu.safetensors"),
+                           "--prior-rays", "--prior-theta", "0", "--width", "16", "--height", "16", "-o", dir.path("r")});
+    EXPECT_EQ(r0.code, 1) << r0.err;
+    EXPECT_NE(r0.err.find("--prior-rays needs --prior-theta > 0"), std::string::npos) << r0.err;
+    EXPECT_EQ(std::count(r0.err.begin(), r0.err.end(), '\n'), 1) << r0.err;
     EXPECT_EQ(dir.count(), n) << "no partial output";
 }
 
@@ -351,6 +360,29 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
 // The cluster tree renders the shipped model's prior past the dense bound: 40 000 scene points of
 // the Cornell box with --prior-theta 0.5, an image written, its mean E⁺ within 5 % of the dense rows'
 // at 8 192 points (the same prior, finer points).
+// --prior-rays end to end: the Cornell box renders with the prior's visibility by rays, and its mean
+// E⁺ is within 15 % of the points' visibility's (the same prior, another visibility; the box is
+// open at the front, where the two closures differ most).
+TEST(BadInput, PriorRaysRender) {
+    test::TempDir dir;
+    const std::string model = test::source_path("models/ltm-cpu.safetensors");
+    const Result points = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "8192",
+                               "--prior-theta", "0.5", "--width", "24", "--height", "24", "-o", dir.path("points")});
+    ASSERT_EQ(points.code, 0) << points.err;
+    const Result rays = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "8192",
+                             "--prior-rays", "--width", "24", "--height", "24", "-o", dir.path("rays")});
+    ASSERT_EQ(rays.code, 0) << rays.err;
+    int w = 0, h = 0;
+    const std::vector<float> a = read_exr_channel(dir.path("points.exr"), "irradiance.G", &w, &h),
+                             b = read_exr_channel(dir.path("rays.exr"), "irradiance.G", &w, &h);
+    ASSERT_EQ(a.size(), b.size());
+    double ma = 0, mb = 0, diff = 0;
+    for (size_t i = 0; i < a.size(); ++i) ma += double(a[i]), mb += double(b[i]), diff += std::abs(double(a[i] - b[i]));
+    EXPECT_GT(ma, 0.0);
+    EXPECT_NEAR(mb / ma, 1.0, 0.15);
+    EXPECT_GT(diff, 0.0);   // the rays are used
+}
+
 TEST(BadInput, PriorTreeRendersPastTheDenseBound) {
     test::TempDir dir;
     const std::string model = test::source_path("models/ltm-cpu.safetensors");

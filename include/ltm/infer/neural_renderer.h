@@ -51,7 +51,8 @@ void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given
 /// gave one, else k_scene_points_auto for a model whose config asks for it
 /// (ModelConfig::auto_scene_points), else 0 (the model's own M). On k_scene_points_auto the caller
 /// calls set_auto_scene_points once the scene is loaded (eval: EvalModel::enable_auto_scene_points).
-/// prior_rays (`--prior-rays`): set_prior_rays first, so an explicit θ still overrides its 0.5.
+/// prior_rays (`--prior-rays`): set_prior_rays first, so an explicit θ still overrides its 0.5; rays
+/// with θ 0 (the dense rows, which have no terms to test) are a one-line error here, before the scene loads.
 int apply_point_options(LtmModel &model, int given, double prior_theta, bool prior_rays = false);
 /// `--prior-rays`: the transport prior's visibility and closure by rays against the scene's meshes
 /// (physics.prior_rays), through its cluster tree (θ 0.5 unless the model already has a θ > 0).
