@@ -375,7 +375,8 @@ int apply_point_options(LtmModel &model, int given, double prior_theta, bool pri
     if (prior_rays) set_prior_rays(model);
     if (prior_theta >= 0) set_prior_theta(model, prior_theta);
     if (model->cfg.physics.prior_rays && !(model->cfg.physics.prior_theta > 0.f))
-        LTM_THROW("--prior-rays needs --prior-theta > 0: the rays test the terms of the prior's cluster tree (the dense rows have none)");
+        LTM_THROW("--prior-rays (physics.prior_rays) needs --prior-theta > 0 (physics.prior_theta): the rays test the terms of the "
+                  "prior's cluster tree (the dense rows have none)");
     if (n > 0) set_scene_points(model, n);
     return n;
 }

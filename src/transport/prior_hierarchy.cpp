@@ -291,7 +291,8 @@ struct Lanes {
 // Every receiver makes its own decision at each node, by its own bounds (all lanes at once); what
 // the lanes share is the node's fetch, its stack entry and the descent while at least one of them
 // still opens it. Each lane meets its terms in the tree's preorder, as when it walks alone, so its
-// row is the same bit for bit whoever walks beside it.
+// row is the same bit for bit whoever walks beside it (with rays, up to the rays a lane takes from a
+// neighbour: RayFilter).
 template <class Visit>
 void PriorTree::traverse(const Receiver *receivers, int count, std::vector<Entry> &stack, Visit &&visit) const {
     if (m_tree.empty() || count <= 0) return;
@@ -515,7 +516,10 @@ template <class Sink> struct PriorTree::RayFilter {
     template <class Decide> uint8_t decision(int l, Decide decide) {
         if (!logs) return decide();
         RayLog &log = logs[l];
-        if (log.complete) return log.decisions[read[l]++];
+        if (log.complete) {   // the walk is deterministic: a replay never outruns its log
+            if (read[l] >= log.decisions.size()) LTM_THROW("prior tree: a replayed walk met more terms than it recorded");
+            return log.decisions[read[l]++];
+        }
         const uint8_t d = decide();
         log.decisions.push_back(d);
         return d;

@@ -297,7 +297,7 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
     // One pass: every node's row against the values x; the first also keeps each row's sum and
     // closure and records the rows. Nodes walk the tree in groups of k_group consecutive places
     // (neighbours facing alike, mostly one leaf's: PriorTree::record_group), each with the row it
-    // would have alone. A chunk of 16 groups reuses one scratch (its rows' capacity).
+    // would have alone (with rays, up to the rays it shares). A chunk of 16 groups reuses one scratch.
     constexpr int G = PriorTree::k_group;
     const std::vector<uint32_t> &place = tree.place_nodes();
     auto pass = [&](const std::vector<Vec3f> &x, bool first, std::vector<Vec3f> &gathered) {
@@ -394,7 +394,11 @@ TransportPrior solve_transport_prior(const std::vector<Vec3f> &position, const s
         auto tree = std::make_shared<PriorTree>(position, normal, vis, node_area, patches, theta);
         if (rays) {   // the emitters never aggregated (PriorTree::set_rays)
             std::vector<uint8_t> emitter(m, 0);
-            for (size_t j = 0; j < m; ++j) emitter[j] = max_component(radiance[j]) > 0.f;
+            size_t emitters = 0;
+            for (size_t j = 0; j < m; ++j) emitters += emitter[j] = max_component(radiance[j]) > 0.f;
+            // A scene mostly emitting (the furnace, a lit ceiling) would lose every aggregate: O(m²)
+            // rays. Lamps are a few per cent of the nodes (at least 1/128 by the sampler).
+            if (emitters * 8 > m) emitter.clear();
             tree->set_rays(rays.occlusion, emitter);
         }
         out.tree = std::move(tree);
@@ -506,7 +510,9 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
         if (!held) held = std::make_shared<const PriorTree::Sums>(prior.tree->sums(prior.exitance));
         const PriorTree::Sums &sums = *held;
         // Neighbours that face alike walk the tree together (PriorTree::record_group): each
-        // receiver's row is what it would be alone, so the order changes no bit of the answer.
+        // receiver's row is what it would be alone, so the order changes no bit of the answer —
+        // except with rays, where neighbours share the rays to far terms (deterministic still: the
+        // order is a function of the receivers).
         constexpr int G = PriorTree::k_group;
         const std::vector<uint32_t> order = PriorTree::group_order(position, normal, stride, n);
         // Visibility by rays: each receiver's closure by rays, no cluster views (the tree tests its terms).

@@ -270,7 +270,7 @@ TEST(BadInput, ScenePointsOutOfBoundsIsOneLineNamingTheLimit) {
     const Result r0 = run({"render", "builtin:cornell-box", "--method", "neural", "--model", test::source_path("models/ltm-cpu.safetensors"),
                            "--prior-rays", "--prior-theta", "0", "--width", "16", "--height", "16", "-o", dir.path("r")});
     EXPECT_EQ(r0.code, 1) << r0.err;
-    EXPECT_NE(r0.err.find("--prior-rays needs --prior-theta > 0"), std::string::npos) << r0.err;
+    EXPECT_NE(r0.err.find("--prior-rays (physics.prior_rays) needs --prior-theta > 0"), std::string::npos) << r0.err;
     EXPECT_EQ(std::count(r0.err.begin(), r0.err.end(), '\n'), 1) << r0.err;
     EXPECT_EQ(dir.count(), n) << "no partial output";
 }
@@ -357,9 +357,6 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
     EXPECT_FALSE(std::filesystem::exists(dir.path("w.safetensors"))) << "no partial output";
 }
 
-// The cluster tree renders the shipped model's prior past the dense bound: 40 000 scene points of
-// the Cornell box with --prior-theta 0.5, an image written, its mean E⁺ within 5 % of the dense rows'
-// at 8 192 points (the same prior, finer points).
 // --prior-rays end to end: the Cornell box renders with the prior's visibility by rays, and its mean
 // E⁺ is within 15 % of the points' visibility's (the same prior, another visibility; the box is
 // open at the front, where the two closures differ most).
@@ -383,6 +380,9 @@ TEST(BadInput, PriorRaysRender) {
     EXPECT_GT(diff, 0.0);   // the rays are used
 }
 
+// The cluster tree renders the shipped model's prior past the dense bound: 40 000 scene points of
+// the Cornell box with --prior-theta 0.5, an image written, its mean E⁺ within 5 % of the dense rows'
+// at 8 192 points (the same prior, finer points).
 TEST(BadInput, PriorTreeRendersPastTheDenseBound) {
     test::TempDir dir;
     const std::string model = test::source_path("models/ltm-cpu.safetensors");
