@@ -55,4 +55,11 @@ Vec2f sample_uniform_triangle(Vec2f u) {
     return {b0, b1};
 }
 
+std::vector<Vec3f> cosine_grid_directions(int n) {
+    std::vector<Vec3f> out;
+    for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) out.push_back(sample_cosine_hemisphere({(float(a) + 0.5f) / float(n), (float(b) + 0.5f) / float(n)}));
+    return out;
+}
+
 }  // namespace ltm

@@ -249,10 +249,7 @@ std::vector<float> cluster_closure(const ClusterVisibility &vis, const DiscOcclu
     if (discs.empty()) LTM_THROW("cluster closure: needs the points as discs (prior_discs > 0)");
     if (rays < 1 || rays > 256) LTM_THROW("cluster closure: rays per side must be in [1, 256], got ", rays);
     // One pattern of local directions for every centre: cell centres of the square, cosine-mapped.
-    std::vector<Vec3f> local;
-    for (int a = 0; a < rays; ++a)
-        for (int b = 0; b < rays; ++b)
-            local.push_back(sample_cosine_hemisphere({(float(a) + 0.5f) / float(rays), (float(b) + 0.5f) / float(rays)}));
+    const std::vector<Vec3f> local = cosine_grid_directions(rays);
     std::vector<float> closure(vis.size(), 1.f);
     parallel_for(0, int64_t(vis.size()), 4, [&](int64_t lo, int64_t hi) {
         for (int64_t c = lo; c < hi; ++c) {

@@ -24,11 +24,7 @@ bool FramedOcclusion::meets(Vec3f origin, Vec3f direction) const { return m_worl
 namespace {
 std::vector<Vec3f> closure_pattern(int rays) {
     if (rays < 1 || rays > 64) LTM_THROW("ray closure: rays per side must be in [1, 64], got ", rays);
-    std::vector<Vec3f> local;
-    for (int a = 0; a < rays; ++a)
-        for (int b = 0; b < rays; ++b)
-            local.push_back(sample_cosine_hemisphere({(float(a) + 0.5f) / float(rays), (float(b) + 0.5f) / float(rays)}));
-    return local;
+    return cosine_grid_directions(rays);
 }
 
 float closure_of(const SegmentOcclusion &occ, const std::vector<Vec3f> &local, Vec3f p, Vec3f n, float lift) {

@@ -3,6 +3,7 @@
 // chosen points.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -61,6 +62,15 @@ inline auto jitter_by_count(const Points &out, float amplitude) {
     };
 }
 
+/// The furnace: a closed 2 m box, 16 × 16 points a face, uniform ρ = (0.5, 0.8, 0.2) and L = (1, 2, 3).
+inline Points furnace_box() {
+    Points pts;
+    for_each_face_cell(Vec3f(0.f), Vec3f(2.f), 16, no_jitter, [&](int, Vec3f p, Vec3f n) {
+        pts.p.push_back(p), pts.n.push_back(n), pts.rho.push_back(Vec3f(0.5f, 0.8f, 0.2f)), pts.le.push_back(Vec3f(1.f, 2.f, 3.f));
+    });
+    return pts;
+}
+
 /// The prior's irradiance at points p with normals n: [p.size() × 3].
 inline std::vector<float> gather(const TransportPrior &t, const std::vector<Vec3f> &p, const std::vector<Vec3f> &n) {
     std::vector<float> pos, nrm, out(3 * p.size());
@@ -68,6 +78,19 @@ inline std::vector<float> gather(const TransportPrior &t, const std::vector<Vec3
         for (int c = 0; c < 3; ++c) pos.push_back(p[i][c]), nrm.push_back(n[i][c]);
     gather_transport_prior(t, pos.data(), nrm.data(), 3, p.size(), out.data());
     return out;
+}
+
+/// The largest |E⁺ − π L Σ_{k=1..5} ρ^k| / (π L Σ ρ^k) of a prior solved (5 bounces) on furnace_box(),
+/// over every channel at two receivers (one on the floor, one near a wall's corner facing down).
+inline double furnace_error(const TransportPrior &t, const Points &box) {
+    const auto e = gather(t, {{1.f, 0.01f, 1.f}, {0.3f, 1.2f, 1.99f}}, {{0, 1, 0}, {0, 0, -1}});
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) {
+        const double rho = box.rho[0][c];
+        const double expect = k_pi * double(box.le[0][c]) * (rho - std::pow(rho, 6)) / (1 - rho);
+        for (int r = 0; r < 2; ++r) worst = std::max(worst, std::abs(double(e[size_t(3 * r + c)]) - expect) / expect);
+    }
+    return worst;
 }
 
 }  // namespace ltm::test

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "ltm/core/math.h"
 
@@ -17,6 +18,11 @@ inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(cos_theta,
 /// (z ≥ 0; only w.x, w.y are read). Both maps preserve measure, so equal cells of the square are
 /// equal projected solid angles of the hemisphere (render/hemisphere_bins.h).
 Vec2f cosine_hemisphere_to_square(Vec3f w);
+
+/// The cosine-distributed local directions at the centres of an n × n grid of the square (row by row:
+/// cell (a, b) at index a·n + b): n² directions of equal projected solid angle, one pattern for every
+/// frame (the transport prior's closures). n ≥ 1.
+std::vector<Vec3f> cosine_grid_directions(int n);
 
 /// Concentric map of the unit square to the unit disk (Shirley & Chiu 1997).
 Vec2f sample_concentric_disk(Vec2f u);
