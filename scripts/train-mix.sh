@@ -12,7 +12,8 @@
 # Usage: nohup nice scripts/train-mix.sh > mix.log 2>&1 &   (env: BUILD or LTM, SEEDS, DATA, RUN,
 # INIT, STEPS, LR, POINT_SETS, THREADS (worker threads for training; 0 = all cores), MODEL (the config to train into; default small-pi: records baked
 # at another M than the model's have their points sampled afresh at its M), SELECT=0 to skip step 3,
-# EXTRA: more `ltm train` options, e.g. "--set region_weight=20")
+# EXTRA: more `ltm train` options, e.g. "--set region_weight=20"; AT_PRIOR=1: a fresh run zeroes the decoder's output
+# after INIT (`--start-at-prior`), so it starts as its own prior, e.g. MODEL=configs/model/small-pi-rays.json)
 set -euo pipefail
 BUILD=${BUILD:-build}
 LTM=${LTM:-$BUILD/apps/ltm/ltm}
@@ -32,7 +33,11 @@ train=("$LTM" train --threads "$THREADS" --model "$MODEL" --data "$DATA" --out "
        --set scenes_per_step=1 --set batch_queries=4096 --set val_fraction=0.03 --set loss=level-l2 --set level_cap=4
        --set point_sets="$POINT_SETS" --set resample_points=true --set val_scenes=8 --set val_every=200 --set ckpt_every=50
        --set keep_val_checkpoints=true ${EXTRA:-})
-if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume; else "${train[@]}" --init "$INIT"; fi
+if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume; else
+  at_prior=()
+  [[ "${AT_PRIOR:-0}" == 1 ]] && at_prior=(--start-at-prior)
+  "${train[@]}" --init "$INIT" "${at_prior[@]}"
+fi
 if [[ "$SELECT" == 1 ]]; then
   SEEDS=930100:930108 GEN=configs/gen/real-mix.json REF_CACHE=refs-mixval LTM="$LTM" \
     scripts/select-by-views.sh "$RUN" "$INIT"

@@ -98,7 +98,7 @@ RTCRay to_rtc(const Ray &r) {
 }  // namespace
 
 std::optional<Hit> EmbreeAccel::intersect(const Ray &ray) const {
-    m_rays.fetch_add(1, std::memory_order_relaxed);
+    m_rays.add();
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -139,7 +139,7 @@ void collect_hit(const RTCFilterFunctionNArguments *args) {
 }  // namespace
 
 std::vector<Hit> EmbreeAccel::hits(const Ray &ray) const {
-    m_rays.fetch_add(1, std::memory_order_relaxed);
+    m_rays.add();
     std::vector<Hit> out;
     CollectContext c;
     rtcInitIntersectContext(&c.ctx);
@@ -161,7 +161,7 @@ std::vector<Hit> EmbreeAccel::hits(const Ray &ray) const {
 }
 
 bool EmbreeAccel::occluded(const Ray &ray) const {
-    m_rays.fetch_add(1, std::memory_order_relaxed);
+    m_rays.add();
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r = to_rtc(ray);

@@ -18,6 +18,8 @@
 #include "ltm/nn/point_tensor.h"
 #include "ltm/render/embree_accel.h"
 #include "ltm/render/hemisphere_bins.h"
+#include "ltm/render/mesh_occlusion.h"
+#include "ltm/scene/scene_transform.h"
 #include "ltm/render/scene_points.h"
 #include "ltm/train/augment.h"
 
@@ -161,6 +163,28 @@ void Trainer::init_weights(const std::string &path) {
     load_state(m_model, tensors, path);   // copy_ moves them to the training device
 }
 
+// Members in the order they need each other: destroyed in reverse, the occlusion (a reference to the
+// BVH) first, then the BVH, then the house.
+struct Trainer::HouseRays {
+    Scene house;
+    std::unique_ptr<EmbreeAccel> accel;
+    std::shared_ptr<const SegmentOcclusion> occlusion;
+};
+
+std::unique_ptr<Trainer::HouseRays> Trainer::house_rays(const SceneRecord &record, const std::string &where, float length_factor) const {
+    if (!m_model_cfg.physics.prior_rays) return nullptr;
+    auto r = std::make_unique<HouseRays>();
+    try {
+        r->house = regenerate_scene(record);
+    } catch (const std::exception &e) {
+        LTM_THROW(where, ": physics.prior_rays traces the prior's rays against the record's house, which cannot be regenerated: ", e.what());
+    }
+    if (length_factor != 1.f) scale_lengths(r->house, length_factor);
+    r->accel = std::make_unique<EmbreeAccel>(r->house);
+    r->occlusion = std::make_shared<MeshOcclusion>(*r->accel);
+    return r;
+}
+
 Trainer::CachedScene &Trainer::scene(size_t index, int set) {
     const std::string &path = index < m_train_paths.size() ? m_train_paths[index] : m_val_paths[index - m_train_paths.size()];
     auto &slot = m_cache[{path, set}];
@@ -213,7 +237,10 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
         if (m_cfg.head != "directional") {
             // The directional head's radiance_scale gathers the solved prior itself in the draw's frame.
             torch::NoGradGuard no_grad;
-            c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale);
+            // physics.prior_rays: the prior's visibility by rays against the regenerated house's meshes,
+            // needed only while the prior is solved and gathered here.
+            const auto rays = house_rays(*c->record, path, 1.f);
+            c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale, rays ? rays->occlusion : nullptr);
             c->query_scale = output_scale(c->query_points, c->frame);
             c->frame.transport.reset();   // every value needed is kept; the solve's memory is not
         }
@@ -389,20 +416,24 @@ std::vector<float> cpu_floats(const torch::Tensor &t) {
 
 OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
     const auto qp = sc.query_points.index_select(0, spread_rows(sc.query_points.size(0), nq, m_device));
-    const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale));
+    // With physics.prior_rays each encode traces the house (×10: the house scaled alike).
+    const std::string where = "validation record " + std::to_string(sc.record->seed);
+    const auto rays = house_rays(*sc.record, where, 1.f), rays10 = house_rays(*sc.record, where, 10.f);
+    auto occlusion = [](const std::unique_ptr<HouseRays> &r) { return r ? r->occlusion : nullptr; };
+    const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale, nullptr, occlusion(rays)));
     const double mean = base.abs().mean().item<double>() + 1e-30;
     // Emission ×4: E⁺ ×4 (bit-exact for a power of two when emission_scale is on).
     auto sp4 = sc.scene_points.clone();
     sp4.slice(1, 9, 12).mul_(4.0);
     const auto s4 = sc.emission_scale.defined() ? sc.emission_scale * 4.0 : torch::Tensor();
-    const auto e4 = m_model->predict_irradiance(qp, m_model->encode(sp4, sc.geometry, s4));
+    const auto e4 = m_model->predict_irradiance(qp, m_model->encode(sp4, sc.geometry, s4, nullptr, occlusion(rays)));
     // Lengths ×10 (positions of scene and query points): E⁺ unchanged. FPS/kNN are recomputed.
     auto sp10 = sc.scene_points.clone(), qp10 = qp.clone();
     sp10.slice(1, 0, 3).mul_(10.0);
     qp10.slice(1, 0, 3).mul_(10.0);
     SceneGeometry g10 = m_model->scene_geometry(sp10.cpu());
     g10.centers = g10.centers.to(m_device), g10.groups = g10.groups.to(m_device);
-    const auto e10 = m_model->predict_irradiance(qp10, m_model->encode(sp10, g10, sc.emission_scale));
+    const auto e10 = m_model->predict_irradiance(qp10, m_model->encode(sp10, g10, sc.emission_scale, nullptr, occlusion(rays10)));
     return {{"val_emission_x4_error", (e4 - 4.0 * base).abs().mean().item<double>() / (4.0 * mean)},
             {"val_unit_x10_error", (e10 - base).abs().mean().item<double>() / mean}};
 }

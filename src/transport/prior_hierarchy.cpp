@@ -3,6 +3,7 @@
 #include "ltm/transport/prior_hierarchy.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -22,6 +23,7 @@ constexpr float k_flat_cos = 0.8253356f;   // cos 0.6
 // Visibility by rays: a group's lane reuses another lane's ray to the same term when their receivers
 // lie within this share of the distance to it (RayFilter).
 constexpr float k_ray_share = 0.05f;
+constexpr int k_share_bits = 12;   // RayShare's slots: 4 096
 
 // Which way a normal faces most: 2a for +axis a, 2a + 1 for −axis a.
 int facing_class(Vec3f n) {
@@ -207,16 +209,25 @@ void PriorTree::summarise(Node &t) const {
 void PriorTree::set_rays(std::shared_ptr<const SegmentOcclusion> rays, const std::vector<uint8_t> &exact) {
     if (!exact.empty() && exact.size() != nodes()) LTM_THROW("prior tree: ", exact.size(), " exact flags for ", nodes(), " nodes");
     m_rays = std::move(rays);
+    static std::atomic<uint64_t> epochs{0};
+    m_ray_epoch = ++epochs;   // a Scratch's shared answers belong to this tree and these rays only
+    // The leaf of every place (RayFilter's whole leaves).
+    m_leaf_of.assign(m_rays ? nodes() : 0, 0u);
+    for (size_t t = 0; t < m_tree.size() && m_rays; ++t)
+        if (m_tree[t].child[0] < 0)
+            for (uint32_t k = m_tree[t].lo; k < m_tree[t].hi; ++k) m_leaf_of[k] = uint32_t(t);
     for (Node &t : m_tree) {
-        t.keep_exact = false;
+        t.keep_exact = t.flagged_only = false;
         if (!m_rays || exact.empty()) continue;
-        for (uint32_t k = t.lo; k < t.hi && !t.keep_exact; ++k) t.keep_exact = exact[m_place_node[k]] != 0;
+        uint32_t flagged = 0;
+        for (uint32_t k = t.lo; k < t.hi; ++k) flagged += exact[m_place_node[k]] != 0;
+        t.keep_exact = flagged > 0, t.flagged_only = flagged == t.hi - t.lo;
     }
 }
 
 size_t PriorTree::bytes() const {
     return m_tree.size() * sizeof(Node) + m_place_node.size() * (sizeof(uint32_t) + 2 * sizeof(Vec3f) + 6 * sizeof(float)) +
-           m_upper.size() * sizeof(uint32_t) + m_visible.size() + m_upper_state.size();
+           m_upper.size() * sizeof(uint32_t) + m_visible.size() + m_upper_state.size() + m_leaf_of.size() * sizeof(uint32_t);
 }
 
 PriorTree::Sums PriorTree::sums(const std::vector<Vec3f> &x) const {
@@ -492,26 +503,53 @@ template <class Sink> struct PriorTree::RayFilter {
     float lift;
     RayLog *logs = nullptr;
     size_t read[k_group] = {};
-    // The walk meets a term for its lanes one after another. A lane whose receiver lies within
-    // k_ray_share of the distance to the term from the lane that last traced it takes that lane's
-    // answer: the two segments differ by less than k_ray_share radians, and a group's receivers are
-    // neighbours (a leaf's patch, a tile of pixels), so far terms cost one ray per group, not per lane.
-    struct Last {
-        int lane = -1;
-        uint32_t key = ~0u;
-        uint8_t decision = 0;
-    } last;
+    // A lane whose receiver lies within k_ray_share of the distance to a term from the receiver that
+    // last traced it (this walk's or an earlier one's with the same Scratch: RayShare) takes that
+    // answer: the two segments differ by less than k_ray_share radians, and the receivers that share
+    // a Scratch are neighbours (a leaf's patch, a tile of pixels), so a far term costs one ray per
+    // neighbourhood, not per lane.
+    RayShare &share;
+    // A far leaf (radius < θ · distance, beyond the patches' reach) that the walk sums exactly for
+    // its shape — curved, or straddling the receiver's plane — and not for its nearness is seen whole
+    // or not at all when the rays to its representative and to both ends of its longest extent
+    // agree, as an aggregate's are: its members (≤ 8) then take that answer without a ray each.
+    // Per lane, the leaf its last member belonged to and that answer (2: its members trace alone).
+    struct Whole {
+        uint32_t leaf = ~0u;
+        uint8_t decision = 2;
+    } whole[k_group];
     bool clear(int l, uint32_t place) const {
         const Receiver &r = receivers[l];
         return !tree.m_rays->blocked(r.p + r.n * lift, tree.m_pos[place] + tree.m_nrm[place] * lift);
     }
     template <class Trace> uint8_t shared(int l, uint32_t key, Vec3f target, Trace trace) {
-        if (last.key == key && last.lane >= 0) {
-            const Vec3f from = receivers[last.lane].p;
-            if (length(receivers[l].p - from) < k_ray_share * length(target - from)) return last.decision;
-        }
-        last = {l, key, trace()};
-        return last.decision;
+        if (share.epoch != tree.m_ray_epoch) share.slots.assign(size_t(1) << k_share_bits, {}), share.epoch = tree.m_ray_epoch;
+        RayShare::Slot &slot = share.slots[(key * 2654435761u) >> (32 - k_share_bits)];
+        const Vec3f p = receivers[l].p;
+        if (slot.key == key && length(p - slot.from) < k_ray_share * length(target - slot.from)) return slot.decision;
+        slot = {key, trace(), p};
+        return slot.decision;
+    }
+    // 1 when the node's representative and both probes are clear, 0 when all three are blocked, 2
+    // (partly visible) when they disagree.
+    uint8_t seen(int l, const Node &s) const {
+        const bool rep = clear(l, s.representative);
+        if (clear(l, s.probe[0]) != rep || clear(l, s.probe[1]) != rep) return 2;
+        return rep ? 1 : 0;
+    }
+    uint8_t whole_leaf(int l, uint32_t leaf) {
+        const Node &s = tree.m_tree[leaf];
+        if ((s.keep_exact && !s.flagged_only) || s.hi - s.lo <= 3) return 2;   // mixed with emitters; ≤ 3 rays anyway
+        const float d = length(s.centroid - receivers[l].p), near_reach = tree.m_patches ? 2.5f * tree.m_side : 0.f;
+        if (!(s.radius < tree.m_theta * d) || d - s.radius <= near_reach) return 2;
+        return shared(l, leaf | 0x40000000u, s.centroid, [&] { return seen(l, s); });
+    }
+    uint8_t member(int l, uint32_t place) {
+        Whole &w = whole[l];
+        const uint32_t leaf = tree.m_leaf_of[place];
+        if (w.leaf != leaf) w = {leaf, whole_leaf(l, leaf)};
+        if (w.decision != 2) return w.decision;
+        return shared(l, place, tree.m_pos[place], [&]() -> uint8_t { return clear(l, place) ? 1 : 0; });
     }
     template <class Decide> uint8_t decision(int l, Decide decide) {
         if (!logs) return decide();
@@ -528,18 +566,12 @@ template <class Sink> struct PriorTree::RayFilter {
     // opens it) when either end of its longest extent disagrees with the representative.
     bool aggregate(int l, uint32_t t, double den, Vec3f along, Vec3f grad) {
         const Node &s = tree.m_tree[t];
-        const uint8_t d = decision(l, [&] {
-            return shared(l, t | 0x80000000u, s.centroid, [&]() -> uint8_t {
-                const bool seen = clear(l, s.representative);
-                if (clear(l, s.probe[0]) != seen || clear(l, s.probe[1]) != seen) return 2;
-                return seen ? 1 : 0;
-            });
-        });
+        const uint8_t d = decision(l, [&] { return shared(l, t | 0x80000000u, s.centroid, [&] { return seen(l, s); }); });
         if (d == 2) return false;
         return d == 1 ? sink.aggregate(l, t, den, along, grad) : true;
     }
     void exact(int l, uint32_t place, double wt) {
-        if (decision(l, [&] { return shared(l, place, tree.m_pos[place], [&]() -> uint8_t { return clear(l, place) ? 1 : 0; }); }))
+        if (decision(l, [&] { return member(l, place); }))
             sink.exact(l, place, wt);
     }
 };
@@ -593,7 +625,7 @@ void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Sc
     RowSink sink{rows};
     const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
     if (m_rays) {
-        RayFilter<RowSink> filter{*this, sink, receivers, ray_lift(), logs};
+        RayFilter<RowSink> filter{*this, sink, receivers, ray_lift(), logs, {}, scratch.shared};
         Terms<RayFilter<RowSink>> terms{*this, filter, m_side, m_reg, near_reach, scale};
         traverse(receivers, count, scratch.stack, terms);
         if (logs)
@@ -611,7 +643,7 @@ void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x
     SumSink sink{x, {}, {}, {}};
     const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
     if (m_rays) {
-        RayFilter<SumSink> filter{*this, sink, receivers, ray_lift()};
+        RayFilter<SumSink> filter{*this, sink, receivers, ray_lift(), nullptr, {}, scratch.shared};
         Terms<RayFilter<SumSink>> terms{*this, filter, m_side, m_reg, near_reach, scale};
         traverse(receivers, count, scratch.stack, terms);
     } else {

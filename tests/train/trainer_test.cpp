@@ -155,6 +155,29 @@ TEST(Trainer, RecordsAtAnotherPointCountAreResampledAtTheModels) {
     EXPECT_EQ(a.model()->cfg.scene_points, 2048);
 }
 
+// physics.prior_rays: records keep no meshes, so the trainer traces the prior's rays against each
+// record's regenerated house. The validation then scores the ray prior (not the points' visibility),
+// the same in two runs; the points' prior through the same tree differs from it.
+TEST(Trainer, RayPriorTracesTheRegeneratedHouse) {
+    test::TempDir dir;
+    ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny-pi.json"));
+    mc.scene_points = 1024;   // the ci records' own points
+    mc.physics.prior_theta = 0.5f;
+    TrainConfig t = small_train(1);
+    t.lr = 0.f;
+    auto val = [&](const ModelConfig &m, const std::string &run) {
+        Trainer trainer(m, t, {dataset_dir()}, dir.path(run));
+        return trainer.validate();
+    };
+    const double tree = val(mc, "tree");
+    mc.physics.prior_rays = true;
+    const double rays = val(mc, "rays"), again = val(mc, "rays-again");
+    EXPECT_TRUE(std::isfinite(tree));
+    EXPECT_TRUE(std::isfinite(rays));
+    EXPECT_EQ(rays, again);
+    EXPECT_GT(std::abs(rays - tree), 1e-6 * std::abs(tree)) << "the rays changed nothing: " << rays;
+}
+
 // Validation logs the floors and the physics: the exact model's emission ×4 and unit ×10 errors
 // are float rounding, its metrics are finite, and the flat-oracle ratio is what select_by uses.
 TEST(Trainer, ValidationReportsPhysicsAndTheFlatOracle) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "ltm/core/sharded_counter.h"
 #include "ltm/render/ray.h"
 #include "ltm/scene/scene.h"
 
@@ -39,7 +40,7 @@ public:
     std::vector<Hit> hits(const Ray &ray) const;
     const Scene &scene() const { return m_scene; }
     /// Rays traced so far by this accelerator (closest-hit + occlusion), for rays/s reports.
-    uint64_t rays_traced() const { return m_rays.load(std::memory_order_relaxed); }
+    uint64_t rays_traced() const { return m_rays.total(); }
 
 private:
     void throw_if_error(const char *during) const;
@@ -55,7 +56,7 @@ private:
     // destroyed in reverse order, the scene before its device).
     std::unique_ptr<RTCDeviceTy, ReleaseDevice> m_device;
     std::unique_ptr<RTCSceneTy, ReleaseScene> m_rtc_scene;
-    mutable std::atomic<uint64_t> m_rays{0};
+    mutable ShardedCounter m_rays;   // one shard a thread: a shared atomic cost 30 % of a frame
 };
 
 }  // namespace ltm

@@ -50,12 +50,17 @@
 // Hanrahan, Salzman & Aupperle 1991) — one ray alone let a floor subtree spanning two rooms through
 // a doorway light the wrong room (house 900103, E⁺ MSE: the points' clusters 0.0048, one ray 0.0086,
 // with the ends 0.0016). Both ends of each ray are lifted 10⁻³ s off their surfaces. Receivers walk
-// with views of K = 0 (no clusters). Within a group, a receiver takes the answer of the neighbour
-// that last traced the same term when their distance is below 0.05 of the term's (the segments
-// differ by < 0.05 rad): far terms cost a ray per group, not per receiver — so with rays a group's
-// rows are no longer bit for bit each receiver's alone (still deterministic at any thread count).
+// with views of K = 0 (no clusters). A receiver takes the answer of the neighbour that last traced
+// the same term — in its group or an earlier group of its chunk (RayShare) — when their distance is
+// below 0.05 of the term's (the segments differ by < 0.05 rad): far terms cost a ray per
+// neighbourhood, not per receiver — so with rays a group's rows are no longer bit for bit each
+// receiver's alone (still deterministic at any thread count).
 // Flagged nodes (the emitters, set_rays) are never aggregated: a lamp under its ceiling would
-// otherwise share a ray with the ceiling behind it.
+// otherwise share a ray with the ceiling behind it. A far leaf (radius < θ · distance, beyond the
+// patches' reach) that is summed exactly for its shape (curved, straddling the receiver's plane) is
+// tested as an aggregate is, by its representative and its two ends: when they agree its members
+// (≤ 8) take that answer without a ray each; else each traces its own (an emitter leaf too, when
+// all its members are flagged). The answers are shared between neighbouring receivers (RayShare).
 //
 // Up to k_group = 8 receivers walk the tree together (record_group, gather_group): each makes its
 // own decisions, its bounds computed beside the others' in SIMD lanes, and the walk's node fetches
@@ -148,10 +153,28 @@ public:
         uint32_t node = 0, mask = 0;
         float w[k_group];
     };
-    /// What a walk reuses between calls (one per thread): its stack and rows to record into.
+    /// Visibility by rays: the ray answers a walk leaves to the walks after it (one table per Scratch).
+    /// Per term, the receiver that traced it and the answer, in a direct-mapped table of 4 096
+    /// slots (a term that lands on another's slot evicts it). A later receiver within 0.05 of the
+    /// term's distance from that receiver takes the answer: within a group and across the groups of
+    /// a chunk (a solve's or a gather's run of consecutive groups: neighbours), so a far term costs a
+    /// ray per neighbourhood. Deterministic where the walks that share one Scratch come in an order
+    /// that does not depend on the threads (a parallel chunk, its own Scratch).
+    struct RayShare {
+        struct Slot {
+            uint32_t key = ~0u;   ///< the term: a place, a leaf | 2³⁰, an aggregate | 2³¹
+            uint8_t decision = 0;
+            Vec3f from{0.f};      ///< the receiver that traced it
+        };
+        std::vector<Slot> slots;   ///< empty until the first ray
+        uint64_t epoch = 0;        ///< the set_rays call whose answers the slots hold (another tree's or rays': cleared)
+    };
+    /// What a walk reuses between calls (one per thread, or per parallel chunk with rays: RayShare):
+    /// its stack, rows to record into and the rays' answers.
     struct Scratch {
         std::vector<Entry> stack;
         Row rows[k_group];
+        RayShare shared;
     };
     /// One receiver's row, recorded: its terms, with den = Σ_j v_j t_j, and num_c = Σ_j v_j t_j x_jc
     /// for any values x by apply(), over the nodes it sees (v_j = Σ_k w_k V(ids_k, cluster(j)), as
@@ -219,6 +242,7 @@ private:
         uint32_t representative = 0;   ///< the place of its member nearest the centroid (its rays' end)
         uint32_t probe[2] = {0, 0};    ///< the places at the ends of its longest extent (partial visibility's test)
         bool keep_exact = false;       ///< set_rays: holds a node never aggregated
+        bool flagged_only = false;     ///< set_rays: every member flagged (an emitter leaf: tested whole, never aggregated)
     };
     template <class Sink> struct Terms;
     template <class Sink> struct RayFilter;
@@ -234,6 +258,7 @@ private:
     std::vector<uint8_t> m_visible;        ///< [C, C] the clusters' visibility (ClusterVisibility::visible)
     std::vector<uint8_t> m_upper_state;    ///< [C, U] what cluster c sees of upper node u: 0 none, 1 all, 2 some
     std::vector<Vec3f> m_pos, m_nrm;       ///< [m] by place
+    std::vector<uint32_t> m_leaf_of;       ///< [m] the leaf holding each place (set_rays; empty without rays)
     std::vector<float> m_px, m_py, m_pz, m_nx, m_ny, m_nz;   ///< the same, structure of arrays
     float m_theta = 0.f, m_reg = 0.f, m_side = 0.f;
     /// Members no further than this in front of the receiver's plane count as in it: a floor's own
@@ -243,6 +268,7 @@ private:
     bool m_patches = false;
     size_t m_clusters = 0;                 ///< C (1 without occlusion)
     std::shared_ptr<const SegmentOcclusion> m_rays;   ///< set_rays: visibility by rays; null: by clusters
+    uint64_t m_ray_epoch = 0;              ///< unique per set_rays call in the process (RayShare::epoch)
 };
 
 }  // namespace ltm
