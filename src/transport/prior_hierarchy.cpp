@@ -540,8 +540,17 @@ template <class Sink> struct PriorTree::RayFilter {
     uint8_t whole_leaf(int l, uint32_t leaf) {
         const Node &s = tree.m_tree[leaf];
         if ((s.keep_exact && !s.flagged_only) || s.hi - s.lo <= 3) return 2;   // mixed with emitters; ≤ 3 rays anyway
-        const float d = length(s.centroid - receivers[l].p), near_reach = tree.m_patches ? 2.5f * tree.m_side : 0.f;
+        const Receiver &r = receivers[l];
+        const float d = length(s.centroid - r.p), near_reach = tree.m_patches ? 2.5f * tree.m_side : 0.f;
         if (!(s.radius < tree.m_theta * d) || d - s.radius <= near_reach) return 2;
+        // Its three rays speak for the members only if their ends face the receiver and lie in front of
+        // it: an end facing away is hidden by its own object (the far side of a bulb), which says
+        // nothing of the members that face the receiver.
+        const auto facing = [&](uint32_t k) {
+            const Vec3f e = tree.m_pos[k] - r.p;
+            return dot(r.n, e) > 0.f && dot(tree.m_nrm[k], e) < 0.f;
+        };
+        if (!facing(s.representative) || !facing(s.probe[0]) || !facing(s.probe[1])) return 2;
         return shared(l, leaf | 0x40000000u, s.centroid, [&] { return seen(l, s); });
     }
     uint8_t member(int l, uint32_t place) {

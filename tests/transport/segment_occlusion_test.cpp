@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstring>
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
@@ -264,6 +265,38 @@ TEST(PriorRays, ClosureIsTheFormFactorsComplement) {
     EXPECT_EQ(out[0], c);
     EXPECT_GT(out[1], 0.f);
     EXPECT_LT(out[1], 1.f);   // a wall's receiver sees the open top over part of its hemisphere
+}
+
+// An occluder whose answer is a hash of the segment's bits: any change in which receiver traced a
+// shared answer changes the result, so the thread count may not change who shares with whom.
+struct Hashed final : SegmentOcclusion {
+    bool blocked(Vec3f a, Vec3f b) const override {
+        uint64_t h = 1469598103934665603ull;
+        for (float v : {a.x, a.y, a.z, b.x, b.y, b.z}) {
+            uint32_t bits;
+            std::memcpy(&bits, &v, 4);
+            h = (h ^ bits) * 1099511628211ull;
+        }
+        return (h >> 29) % 5 == 0;   // a fifth of the segments
+    }
+    bool meets(Vec3f, Vec3f) const override { return true; }
+};
+
+TEST(PriorRays, SharedAnswersAreTheSameAtAnyThreadCount) {
+    const Points pts = two_closed_rooms(12, true);
+    std::vector<Vec3f> qp, qn;
+    for (int i = 0; i < 400; ++i) qp.push_back({0.2f + 0.007f * float(i), 0.001f, 1.5f + 0.001f * float(i % 7)}), qn.push_back({0, 1, 0});
+    const auto occ = std::make_shared<Hashed>();
+    const TransportPrior many_prior = solve(pts, 9.f / 144.f, occ);
+    const auto many = test::gather(many_prior, qp, qn);
+    const int threads = num_threads();
+    set_num_threads(1);
+    const TransportPrior one_prior = solve(pts, 9.f / 144.f, occ);
+    const auto one = test::gather(one_prior, qp, qn);
+    set_num_threads(threads);
+    EXPECT_EQ(one, many);
+    for (size_t j = 0; j < one_prior.exitance.size(); ++j)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(one_prior.exitance[j][c], many_prior.exitance[j][c]) << j;
 }
 
 TEST(PriorRays, SameAtAnyThreadCount) {

@@ -58,7 +58,8 @@
 // Flagged nodes (the emitters, set_rays) are never aggregated: a lamp under its ceiling would
 // otherwise share a ray with the ceiling behind it. A far leaf (radius < θ · distance, beyond the
 // patches' reach) that is summed exactly for its shape (curved, straddling the receiver's plane) is
-// tested as an aggregate is, by its representative and its two ends: when they agree its members
+// tested as an aggregate is, by its representative and its two ends — if all three face the receiver
+// and lie in front of it (an end facing away is hidden by its own object) — and when they agree its members
 // (≤ 8) take that answer without a ray each; else each traces its own (an emitter leaf too, when
 // all its members are flagged). The answers are shared between neighbouring receivers (RayShare).
 //
@@ -157,9 +158,10 @@ public:
     /// Per term, the receiver that traced it and the answer, in a direct-mapped table of 4 096
     /// slots (a term that lands on another's slot evicts it). A later receiver within 0.05 of the
     /// term's distance from that receiver takes the answer: within a group and across the groups of
-    /// a chunk (a solve's or a gather's run of consecutive groups: neighbours), so a far term costs a
-    /// ray per neighbourhood. Deterministic where the walks that share one Scratch come in an order
-    /// that does not depend on the threads (a parallel chunk, its own Scratch).
+    /// a block (a solve's 16 or a gather's 32 consecutive groups: neighbours), so a far term costs a
+    /// ray per neighbourhood. Deterministic where the walks that share one table come in an order that
+    /// does not depend on the threads: the solve and the gather empty it at fixed block boundaries and
+    /// run each block as one parallel chunk (transport_prior.cpp).
     struct RayShare {
         struct Slot {
             uint32_t key = ~0u;   ///< the term: a place, a leaf | 2³⁰, an aggregate | 2³¹
