@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <utility>
 
@@ -207,6 +208,15 @@ struct PlacedNodes {
 }  // namespace
 
 namespace {
+// Calls body(first, last) for every block of `block` consecutive groups of [0, groups), the blocks in
+// parallel. The bounds are fixed, so what the walks of one block share — its Scratch, and with rays
+// their answers (PriorTree::RayShare) — is the same at any thread count: each call starts its own.
+void parallel_blocks(int64_t groups, int64_t block, const std::function<void(int64_t, int64_t)> &body) {
+    parallel_for(0, (groups + block - 1) / block, 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t k = b0; k < b1; ++k) body(k * block, std::min(groups, (k + 1) * block));
+    });
+}
+
 // The dense solve: every node's row of Ĝ stored (sparse by what it sees), D sparse products.
 // -> Σ_{k=1..D} B_k per node (caller's order); mean_e: the area mean of E⁺ at the nodes.
 std::vector<Vec3f> dense_bounces(const std::vector<Vec3f> &position, const std::vector<Vec3f> &normal,
@@ -297,27 +307,21 @@ std::vector<Vec3f> tree_bounces(const PriorTree &tree, const std::vector<Vec3f> 
     // One pass: every node's row against the values x; the first also keeps each row's sum and
     // closure and records the rows. Nodes walk the tree in groups of k_group consecutive places
     // (neighbours facing alike, mostly one leaf's: PriorTree::record_group), each with the row it
-    // would have alone (with rays, up to the rays it shares). A block of 16 groups reuses one scratch;
-    // with rays its groups share their answers (PriorTree::RayShare), so the blocks are fixed — the
-    // parallel chunks are whole blocks and each block starts with an empty table — and the answer is
-    // the same at any thread count.
+    // would have alone (with rays, up to the rays it shares). A block of 16 groups reuses one scratch
+    // (parallel_blocks; with rays its groups share their answers).
     constexpr int G = PriorTree::k_group;
-    constexpr int64_t k_block = 16;
     const std::vector<uint32_t> &place = tree.place_nodes();
     auto pass = [&](const std::vector<Vec3f> &x, bool first, std::vector<Vec3f> &gathered) {
         const PriorTree::Sums sums = tree.sums(x);
         auto gather = [&](size_t j, const double num[3]) {
             for (int c = 0; c < 3; ++c) gathered[j][c] = den[j] > 0 ? float(double(closure[j]) * num[c] / den[j]) : 0.f;
         };
-        const int64_t groups = int64_t((m + G - 1) / G);
-        parallel_for(0, (groups + k_block - 1) / k_block, 1, [&](int64_t b_block, int64_t e_block) {
-            const int64_t b = b_block * k_block, e = std::min(groups, e_block * k_block);
+        parallel_blocks(int64_t((m + G - 1) / G), 16, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
             BlendedView bv[G];
             PriorTree::Receiver rc[G];
             size_t walk[G];
             for (int64_t g = b; g < e; ++g) {
-                if (g % k_block == 0) scratch.shared = {};
                 const size_t lo = size_t(g) * G, hi = std::min(m, lo + G);
                 int count = 0;   // the group's nodes whose rows are not kept: they walk
                 for (size_t k = lo; k < hi; ++k) {
@@ -531,18 +535,14 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                 ray_closures(*prior.rays.occlusion, position, normal, stride, n, prior.tree->ray_lift(), prior.rays.closure_rays,
                              ray_closure.data());
         }
-        // Blocks of 32 groups share their rays' answers (PriorTree::RayShare): fixed blocks, each a
-        // parallel chunk of its own starting with an empty table, so the answer does not depend on the
-        // thread count.
-        const int64_t groups = int64_t((n + G - 1) / G), k_block = 32;
-        parallel_for(0, (groups + k_block - 1) / k_block, 1, [&](int64_t b_block, int64_t e_block) {
-            const int64_t b = b_block * k_block, e = std::min(groups, e_block * k_block);
+        // Blocks of 32 groups, each with its own scratch (parallel_blocks: with rays, the answers its
+        // groups share).
+        parallel_blocks(int64_t((n + G - 1) / G), 32, [&](int64_t b, int64_t e) {
             PriorTree::Scratch scratch;
             BlendedView bv[G];
             PriorTree::Receiver rc[G];
             float closure[G];
             for (int64_t g = b; g < e; ++g) {
-                if (g % k_block == 0) scratch.shared = {};
                 const size_t first = size_t(g) * G;
                 const int count = int(std::min<size_t>(G, n - first));
                 for (int l = 0; l < count; ++l) {

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "ltm/core/error.h"
 #include "ltm/core/parallel.h"
@@ -46,6 +47,23 @@ struct OpenTopBox final : SegmentOcclusion {
         const float x = o.x + t * d.x, z = o.z + t * d.z;
         return !(x > 0.f && x < 1.f && z > 0.f && z < 1.f);
     }
+};
+
+// Blocked where the segment ends beyond x = edge (a screen over the far side); rays meet the scene always.
+struct Screen final : SegmentOcclusion {
+    float edge;
+    explicit Screen(float x) : edge(x) {}
+    bool blocked(Vec3f, Vec3f b) const override { return b.x > edge; }
+    bool meets(Vec3f, Vec3f) const override { return true; }
+};
+
+// An occluder that counts the segments asked of it (the rays a walk traces).
+template <class Occlusion> struct Counting final : SegmentOcclusion {
+    Occlusion inner;
+    mutable std::atomic<uint64_t> segments{0};
+    explicit Counting(Occlusion o) : inner(std::move(o)) {}
+    bool blocked(Vec3f a, Vec3f b) const override { return ++segments, inner.blocked(a, b); }
+    bool meets(Vec3f o, Vec3f d) const override { return inner.meets(o, d); }
 };
 
 // Two 3 m rooms side by side, a solid wall between them (at x = 3.1), light in the first; g×g points a face.
@@ -121,16 +139,12 @@ TEST(PriorRays, ClearRaysAreTheUnoccludedTree) {
 // the tree at θ 0.5, where one aggregate would stand for the whole floor, keeps what the exact row
 // (θ 0) keeps — the subtrees whose rays disagree are opened, not taken whole or dropped whole.
 TEST(PriorRays, PartlyVisibleSubtreesAreOpened) {
-    struct Screen final : SegmentOcclusion {
-        bool blocked(Vec3f, Vec3f b) const override { return b.x > 1.f; }
-        bool meets(Vec3f, Vec3f) const override { return true; }
-    };
     std::vector<Vec3f> p, n;
     for (int i = 0; i < 32; ++i)
         for (int k = 0; k < 32; ++k) p.push_back({(float(i) + 0.5f) / 16.f, 0.f, (float(k) + 0.5f) / 16.f}), n.push_back({0, 1, 0});
     const float area = 4.f / 1024.f;
     PriorTree coarse(p, n, {}, area, true, 0.5f), exact(p, n, {}, area, true, 0.f);
-    const auto screen = std::make_shared<Screen>();
+    const auto screen = std::make_shared<Screen>(1.f);
     coarse.set_rays(screen), exact.set_rays(screen);
     PriorTree::Scratch scratch;
     PriorTree::Row half, whole, plain;
@@ -149,13 +163,6 @@ TEST(PriorRays, PartlyVisibleSubtreesAreOpened) {
 // terms; with half the bumps screened, the row keeps what one ray per member keeps (leaves that
 // straddle the screen's edge disagree and trace their members).
 TEST(PriorRays, FarLeavesAreTestedWhole) {
-    struct Counting final : SegmentOcclusion {
-        mutable std::atomic<uint64_t> segments{0};
-        float edge;   // blocked beyond x = edge (∞: nothing blocks)
-        explicit Counting(float x) : edge(x) {}
-        bool blocked(Vec3f, Vec3f b) const override { return ++segments, b.x > edge; }
-        bool meets(Vec3f, Vec3f) const override { return true; }
-    };
     std::vector<Vec3f> p, n;
     const float r = 0.05f, golden = float(k_pi) * (3.f - std::sqrt(5.f));
     for (int i = 0; i < 16; ++i)
@@ -169,7 +176,7 @@ TEST(PriorRays, FarLeavesAreTestedWhole) {
     const Vec3f q(1.f, 6.f, 1.f), down(0.f, -1.f, 0.f);
     PriorTree::Scratch scratch;
     PriorTree tree(p, n, {}, area, true, 0.5f);
-    const auto clear = std::make_shared<Counting>(1e30f);
+    const auto clear = std::make_shared<Counting<Screen>>(Screen(1e30f));   // nothing blocks
     tree.set_rays(clear);
     PriorTree::Row row;
     tree.record(q, down, {}, row, scratch);
@@ -177,7 +184,7 @@ TEST(PriorRays, FarLeavesAreTestedWhole) {
     EXPECT_LT(clear->segments.load(), (row.exact.size() + 3 * row.aggregates.size()) * 6 / 10);   // 3 rays a whole leaf of ≤ 8
     // Half of it screened: per-member rays (θ 0: no aggregates, no whole leaves) against whole leaves.
     PriorTree exact(p, n, {}, area, true, 0.f);
-    const auto screen = std::make_shared<Counting>(1.f), screen_exact = std::make_shared<Counting>(1.f);
+    const auto screen = std::make_shared<Counting<Screen>>(Screen(1.f)), screen_exact = std::make_shared<Counting<Screen>>(Screen(1.f));
     tree.set_rays(screen), exact.set_rays(screen_exact);
     PriorTree::Row half, ref;
     tree.record(q, down, {}, half, scratch);
@@ -191,17 +198,11 @@ TEST(PriorRays, FarLeavesAreTestedWhole) {
 // on a floor traces fewer rays with one Scratch than with a fresh one a group, and gets rows
 // within the rays' own error of those; a Scratch used with other rays does not reuse their answers.
 TEST(PriorRays, NeighbouringGroupsShareTheirRays) {
-    struct Counting final : SegmentOcclusion {
-        mutable std::atomic<uint64_t> segments{0};
-        Wall wall{1.7f};
-        bool blocked(Vec3f a, Vec3f b) const override { return ++segments, wall.blocked(a, b); }
-        bool meets(Vec3f, Vec3f) const override { return true; }
-    };
     const Points pts = two_closed_rooms(10, true);
     PriorTree tree(pts.p, pts.n, {}, 9.f / 100.f, true, 0.5f);
     std::vector<PriorTree::Receiver> floor;   // 16 groups of 8 receivers on the floor, 1 cm apart
     for (int i = 0; i < 128; ++i) floor.push_back({Vec3f(0.2f + 0.01f * float(i), 0.001f, 1.5f), Vec3f(0, 1, 0), {}});
-    const auto occ = std::make_shared<Counting>();
+    const auto occ = std::make_shared<Counting<Wall>>(Wall(1.7f));
     tree.set_rays(occ);
     PriorTree::Scratch together;
     std::vector<PriorTree::Row> shared(128), alone(128);
@@ -315,19 +316,13 @@ TEST(PriorRays, SameAtAnyThreadCount) {
 // walk's decisions (PriorTree::RayLog) instead of tracing again: no rows kept, or all, give the same
 // exitance to the bit, and the replay traces nothing.
 TEST(PriorRays, ReplayedRowsAreTheTracedOnes) {
-    struct Counting final : SegmentOcclusion {
-        mutable std::atomic<uint64_t> segments{0};
-        Wall wall{3.1f};
-        bool blocked(Vec3f a, Vec3f b) const override { return ++segments, wall.blocked(a, b); }
-        bool meets(Vec3f, Vec3f) const override { return true; }
-    };
     const Points pts = two_closed_rooms(8, true);
-    auto solve_with = [&](size_t budget, const std::shared_ptr<Counting> &occ) {
+    auto solve_with = [&](size_t budget, const std::shared_ptr<Counting<Wall>> &occ) {
         PriorRays rays;
         rays.occlusion = occ, rays.closure_rays = 0;
         return solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 9.f / 64.f, 5, {}, PriorBalance::none, true, 0.5f, budget, rays);
     };
-    const auto kept = std::make_shared<Counting>(), walked = std::make_shared<Counting>();
+    const auto kept = std::make_shared<Counting<Wall>>(Wall(3.1f)), walked = std::make_shared<Counting<Wall>>(Wall(3.1f));
     const TransportPrior a = solve_with(k_prior_row_budget, kept), b = solve_with(0, walked);
     for (size_t j = 0; j < a.exitance.size(); ++j)
         for (int c = 0; c < 3; ++c) ASSERT_EQ(a.exitance[j][c], b.exitance[j][c]) << j;
@@ -335,10 +330,10 @@ TEST(PriorRays, ReplayedRowsAreTheTracedOnes) {
     EXPECT_EQ(walked->segments.load(), kept->segments.load());   // the later bounces traced nothing
     // A budget that keeps some rows: which ones depends on the threads' timing, the answer does not.
     const size_t part = a.tree ? 64 * 1024 : 0;
-    const TransportPrior many = solve_with(part, std::make_shared<Counting>());
+    const TransportPrior many = solve_with(part, std::make_shared<Counting<Wall>>(Wall(3.1f)));
     const int threads = num_threads();
     set_num_threads(1);
-    const TransportPrior one = solve_with(part, std::make_shared<Counting>());
+    const TransportPrior one = solve_with(part, std::make_shared<Counting<Wall>>(Wall(3.1f)));
     set_num_threads(threads);
     for (size_t j = 0; j < a.exitance.size(); ++j)
         for (int c = 0; c < 3; ++c) {

@@ -51,7 +51,7 @@
 // a doorway light the wrong room (house 900103, E⁺ MSE: the points' clusters 0.0048, one ray 0.0086,
 // with the ends 0.0016). Both ends of each ray are lifted 10⁻³ s off their surfaces. Receivers walk
 // with views of K = 0 (no clusters). A receiver takes the answer of the neighbour that last traced
-// the same term — in its group or an earlier group of its chunk (RayShare) — when their distance is
+// the same term — in its group or an earlier group of its block (RayShare) — when their distance is
 // below 0.05 of the term's (the segments differ by < 0.05 rad): far terms cost a ray per
 // neighbourhood, not per receiver — so with rays a group's rows are no longer bit for bit each
 // receiver's alone (still deterministic at any thread count).
@@ -171,7 +171,7 @@ public:
         std::vector<Slot> slots;   ///< empty until the first ray
         uint64_t epoch = 0;        ///< the set_rays call whose answers the slots hold (another tree's or rays': cleared)
     };
-    /// What a walk reuses between calls (one per thread, or per parallel chunk with rays: RayShare):
+    /// What a walk reuses between calls (one per block of neighbouring groups: with rays, RayShare):
     /// its stack, rows to record into and the rays' answers.
     struct Scratch {
         std::vector<Entry> stack;
