@@ -2,8 +2,8 @@
 // (definitions in the header).
 #include "ltm/transport/point_visibility.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <tuple>
 #include <utility>
@@ -162,31 +162,48 @@ bool ClusterVisibility::blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const {
 
 namespace {
 // The k_candidates nearest centres whose normal is within 90° of n, nearest first (insertion into
-// a short sorted list; ties to the lower index), and the nearest centre of all. Returns the count.
-// With the centres' grid the rings stop once the k-th candidate lies within the searched radius;
-// comparisons are on (distance², index), so the list is the scan's whatever the visiting order.
+// a short sorted list), and the nearest centre of all. Returns the count. Distances are ranked on
+// steps of h/1024 (h the occupancy's voxel; shifted by 2 − φ of a step, as PriorTree's KeyGrid): a
+// node as far from two centres as rounding can tell (a generated house: ~30 of 16 384 nodes)
+// otherwise joined one or the other by the rounding of its unit. Ties go to the centre nearer the
+// grid's centre (on the same steps), which the training symmetries and the unit keep, and only then
+// to the lower index. With the centres' grid the rings stop once the k-th candidate lies within the
+// searched radius (widened by a step); comparisons are on (steps, steps to the grid's centre, index),
+// so the list is the scan's whatever the visiting order.
 size_t facing_candidates(const ClusterVisibility &v, Vec3f p, Vec3f n, std::pair<float, uint32_t> *near,
                          uint32_t &nearest) {
     constexpr size_t k = ClusterVisibility::k_candidates;
+    const double step = double(v.occupancy.voxel()) / 1024.0;
+    auto rank = [step](Vec3f d) {
+        const float d2 = dot(d, d);
+        return step > 0.0 ? int64_t(std::floor(std::sqrt(double(d2)) / step + 0.3819660112501051)) : int64_t(double(d2) * 0x1p40);
+    };
+    const Vec3f middle = v.occupancy.center();
+    using Key = std::tuple<int64_t, int64_t, uint32_t>;
     size_t found = 0;
     nearest = 0;
-    std::pair<float, uint32_t> best_all{std::numeric_limits<float>::infinity(), 0u};
+    Key keys[k];
+    Key best_all{std::numeric_limits<int64_t>::max(), 0, 0u};
     auto visit = [&](uint32_t c) {
         const Vec3f d = v.position[c] - p;
-        const std::pair<float, uint32_t> key{dot(d, d), c};
+        const Key key{rank(d), rank(v.position[c] - middle), c};
         if (key < best_all) best_all = key;
         if (!(dot(v.normal[c], n) > 0.f)) return;
-        if (found == k && !(key < near[k - 1])) return;
+        if (found == k && !(key < keys[k - 1])) return;
         size_t i = found < k ? found++ : k - 1;
-        for (; i > 0 && key < near[i - 1]; --i) near[i] = near[i - 1];
-        near[i] = key;
+        for (; i > 0 && key < keys[i - 1]; --i) near[i] = near[i - 1], keys[i] = keys[i - 1];
+        near[i] = {dot(d, d), c}, keys[i] = key;
     };
     if (v.centres.empty() || !is_finite(p)) {
         for (size_t c = 0; c < v.position.size(); ++c) visit(uint32_t(c));
     } else {
-        v.centres.visit_nearest(p, visit, [&] { return found == k ? near[k - 1].first : std::numeric_limits<float>::infinity(); });
+        v.centres.visit_nearest(p, visit, [&] {
+            if (found < k) return std::numeric_limits<float>::infinity();
+            const float r = std::sqrt(near[k - 1].first) + float(step);   // a farther centre of the same step can still rank first
+            return r * r;
+        });
     }
-    nearest = best_all.second;
+    nearest = std::get<2>(best_all);
     return found;
 }
 }  // namespace
@@ -308,7 +325,8 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
         return d;
     };
     const double centre[3] = {double(c0.x), double(c0.y), double(c0.z)};
-    const double tie = 1e-9 * g * g;   // distances equal within rounding
+    const double tie = 1e-9 * g * g;   // distances equal within rounding (first_end)
+    const double step = g / 1024.0;    // the centres' ranking of distances
     for (size_t b = 0; b < m;) {
         size_t e = b;
         double mean[3] = {0, 0, 0};
@@ -317,13 +335,17 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
         for (double &x : mean) x /= double(e - b);
         // Nearest to the mean. A group of two is an exact tie (both at half their distance), and a
         // tie broken by position order is not mirror-equivariant; the distance to the grid's
-        // centre is (the maps keep the centre), so ties within rounding go to the node nearer
-        // the centre, and only then to the smaller position.
+        // centre is (the maps keep the centre), so ties go to the node nearer the centre, and only
+        // then to the smaller position. Distances are compared on steps of g/1024 (shifted by 2 − φ
+        // of a step): ties within rounding include the rounding of another unit, a few ulps of each
+        // coordinate, which a tolerance on d² (1e-9 g²) did not.
+        auto rank = [&](Vec3f p, const double *q) { return int64_t(std::floor(std::sqrt(dist2(p, q)) / step + 0.3819660112501051)); };
         size_t best = b;
+        auto best_key = std::make_pair(rank(pos[members[b].node], mean), rank(pos[members[b].node], centre));
         for (size_t k = b + 1; k < e; ++k) {   // in position order
-            const Vec3f pk = pos[members[k].node], pb = pos[members[best].node];
-            const double dk = dist2(pk, mean), db = dist2(pb, mean);
-            if (dk < db - tie || (std::abs(dk - db) <= tie && dist2(pk, centre) < dist2(pb, centre) - tie)) best = k;
+            const Vec3f pk = pos[members[k].node];
+            const auto key = std::make_pair(rank(pk, mean), rank(pk, centre));
+            if (key < best_key) best = k, best_key = key;
         }
         out.position.push_back(pos[members[best].node]), out.normal.push_back(nrm[members[best].node]);
         b = e;

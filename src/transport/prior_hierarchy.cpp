@@ -35,8 +35,10 @@ int facing_class(Vec3f n) {
 // Splits items[lo, hi) (≥ 2) into two non-empty halves and returns the first place of the second.
 // Items facing several ways are sorted by facing (then by index) and cut at the class boundary
 // nearest the middle; items facing one way at the median of their longest extent (ties by index).
+// Coordinates and extents are compared on the tree's key grid (PriorTree::KeyGrid), so that the
+// same points in another unit, which float rounding moves by ~1e-5 spacings, split alike.
 template <class PosOf, class NrmOf>
-uint32_t split(std::vector<uint32_t> &items, uint32_t lo, uint32_t hi, PosOf pos, NrmOf nrm) {
+uint32_t split(std::vector<uint32_t> &items, uint32_t lo, uint32_t hi, PosOf pos, NrmOf nrm, const KeyGrid &grid) {
     const auto first = items.begin() + lo, last = items.begin() + hi;
     const int c0 = facing_class(nrm(items[lo]));
     if (std::any_of(first, last, [&](uint32_t i) { return facing_class(nrm(i)) != c0; })) {
@@ -51,14 +53,19 @@ uint32_t split(std::vector<uint32_t> &items, uint32_t lo, uint32_t hi, PosOf pos
                 best = k;
         return best;
     }
-    Vec3f bmin(std::numeric_limits<float>::infinity()), bmax(-std::numeric_limits<float>::infinity());
-    for (auto it = first; it != last; ++it) bmin = min(bmin, pos(*it)), bmax = max(bmax, pos(*it));
-    const Vec3f ext = bmax - bmin;
-    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : ext.y >= ext.z ? 1 : 2;
+    int64_t kmin[3], kmax[3];
+    for (int a = 0; a < 3; ++a) kmin[a] = std::numeric_limits<int64_t>::max(), kmax[a] = std::numeric_limits<int64_t>::min();
+    for (auto it = first; it != last; ++it)
+        for (int a = 0; a < 3; ++a) {
+            const int64_t k = grid.key(pos(*it)[a], a);
+            kmin[a] = std::min(kmin[a], k), kmax[a] = std::max(kmax[a], k);
+        }
+    const int64_t ext[3] = {kmax[0] - kmin[0], kmax[1] - kmin[1], kmax[2] - kmin[2]};
+    const int axis = ext[0] >= ext[1] && ext[0] >= ext[2] ? 0 : ext[1] >= ext[2] ? 1 : 2;
     const uint32_t mid = lo + (hi - lo) / 2;
     std::nth_element(first, items.begin() + mid, last, [&](uint32_t a, uint32_t b) {
-        const float pa = pos(a)[axis], pb = pos(b)[axis];
-        return pa != pb ? pa < pb : a < b;
+        const int64_t ka = grid.key(pos(a)[axis], axis), kb = grid.key(pos(b)[axis], axis);
+        return ka != kb ? ka < kb : a < b;
     });
     return mid;
 }
@@ -75,6 +82,13 @@ PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f
     m_coplanar = 1e-3f * m_side;
     m_clusters = vis.empty() ? 1 : vis.size();
     if (m == 0) return;
+    m_grid.step = double(m_side) / KeyGrid::k_per_side;
+    m_grid.origin = position[0];
+    for (const Vec3f &p : position) m_grid.origin = min(m_grid.origin, p);
+    // Off the lowest node by an irrational share of a step, so that points on a lattice from it
+    // (a grid of nodes, walls at whole spacings) do not sit on the steps' edges.
+    m_grid.origin = m_grid.origin - Vec3f(float(KeyGrid::k_offset * m_grid.step));
+    const KeyGrid &grid = m_grid;
     // Each cluster's nodes, in node order.
     std::vector<std::vector<uint32_t>> members(m_clusters);
     for (size_t j = 0; j < m; ++j) members[vis.empty() ? 0 : vis.node_cluster[j]].push_back(uint32_t(j));
@@ -102,7 +116,7 @@ PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f
             m_tree[size_t(t)].hi = uint32_t(m_place_node.size());
             return t;
         }
-        const uint32_t mid = split(items, lo, hi, node_pos, node_nrm);
+        const uint32_t mid = split(items, lo, hi, node_pos, node_nrm, grid);
         const int32_t a = build_nodes(items, lo, mid, cluster), b = build_nodes(items, mid, hi, cluster);
         m_tree[size_t(t)].child[0] = a, m_tree[size_t(t)].child[1] = b;
         m_tree[size_t(t)].lo = m_tree[size_t(a)].lo, m_tree[size_t(t)].hi = m_tree[size_t(b)].hi;
@@ -118,7 +132,7 @@ PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f
         const int32_t t = int32_t(m_tree.size());
         m_tree.emplace_back();
         m_upper.push_back(uint32_t(t));
-        const uint32_t mid = split(clusters, lo, hi, [&](uint32_t c) { return cpos[c]; }, [&](uint32_t c) { return cnrm[c]; });
+        const uint32_t mid = split(clusters, lo, hi, [&](uint32_t c) { return cpos[c]; }, [&](uint32_t c) { return cnrm[c]; }, grid);
         const int32_t a = build_clusters(lo, mid), b = build_clusters(mid, hi);
         Node &s = m_tree[size_t(t)];
         s.child[0] = a, s.child[1] = b;
@@ -168,19 +182,20 @@ void PriorTree::summarise(Node &t) const {
     }
     t.centroid = Vec3f(float(c[0] / double(t.hi - t.lo)), float(c[1] / double(t.hi - t.lo)), float(c[2] / double(t.hi - t.lo)));
     t.radius = 0.f;
-    float nearest = std::numeric_limits<float>::infinity();
-    for (uint32_t k = t.lo; k < t.hi; ++k) {
-        const float r = length(m_pos[k] - t.centroid);
-        t.radius = std::max(t.radius, r);
-        if (r < nearest) nearest = r, t.representative = k;   // ties: the first place
-    }
-    // The ends of its longest extent: the member farthest from the centroid, and the one farthest from it.
-    float far = -1.f;
+    for (uint32_t k = t.lo; k < t.hi; ++k) t.radius = std::max(t.radius, length(m_pos[k] - t.centroid));
+    // The members the rays go to, chosen by distances on the key grid (ties: the first place), so that
+    // rounding does not pick another member of a symmetric patch in another unit: the representative
+    // nearest the centroid, and the ends of the longest extent — the member farthest from the
+    // centroid, and the one farthest from that.
+    int64_t nearest = std::numeric_limits<int64_t>::max();
     for (uint32_t k = t.lo; k < t.hi; ++k)
-        if (const float r = length(m_pos[k] - t.centroid); r > far) far = r, t.probe[0] = k;
-    far = -1.f;
+        if (const int64_t r = m_grid.length_key(m_pos[k] - t.centroid); r < nearest) nearest = r, t.representative = k;
+    int64_t far = -1;
     for (uint32_t k = t.lo; k < t.hi; ++k)
-        if (const float r = length(m_pos[k] - m_pos[t.probe[0]]); r > far) far = r, t.probe[1] = k;
+        if (const int64_t r = m_grid.length_key(m_pos[k] - t.centroid); r > far) far = r, t.probe[0] = k;
+    far = -1;
+    for (uint32_t k = t.lo; k < t.hi; ++k)
+        if (const int64_t r = m_grid.length_key(m_pos[k] - m_pos[t.probe[0]]); r > far) far = r, t.probe[1] = k;
     for (float &v : t.spread) v = 0.f;
     for (float &v : t.tilt) v = 0.f;
     for (uint32_t k = t.lo; k < t.hi; ++k) {
@@ -391,11 +406,14 @@ void PriorTree::traverse(const Receiver *receivers, int count, std::vector<Entry
             const float cb = s.cos_cone, sb = s.sin_cone;
             const f8 c_tilt = along * cb - across * sb;   // cos(∠(n, N̂) + β)
             const f8 corner = m_patches ? 0.7072f * m_side * (c_tilt <= 0.f ? 1.f + zero : across * cb + along * sb) : zero;
-            const uint32_t skip = bits((a_hi + corner <= m_coplanar) | (b_mid + b_slack <= 0.f)) & open;
+            // Both planes with m_coplanar's tolerance: a receiver on a floor and a subtree reaching down
+            // to it (a_lo) or a receiver in a wall's own plane (b) sit at 0 up to rounding, which a change
+            // of unit flips — and with rays the walk then traces other segments (a house: 1.5 % at × 10).
+            const uint32_t skip = bits((a_hi + corner <= m_coplanar) | (b_mid + b_slack <= m_coplanar)) & open;
             uint32_t aggregate = 0;
             if (m_theta > 0.f && s.cos_cone >= k_flat_cos && !s.keep_exact)
-                aggregate = bits((s.radius < m_theta * dist) & (dist - s.radius > near_reach) & (a_lo > 0.f) & (b_mid - b_slack > 0.f)) &
-                            open & ~skip;
+                aggregate = bits((s.radius < m_theta * dist) & (dist - s.radius > near_reach) & (a_lo > -m_coplanar) &
+                                 (b_mid - b_slack > 0.f)) & open & ~skip;
             for (int l = 0; l < k_group; ++l) {
                 if (!(aggregate >> l & 1u)) continue;
                 // A visit may refuse the aggregate (rays that disagree on its visibility): then it is opened.
@@ -545,10 +563,12 @@ template <class Sink> struct PriorTree::RayFilter {
         if (!(s.radius < tree.m_theta * d) || d - s.radius <= near_reach) return 2;
         // Its three rays speak for the members only if their ends face the receiver and lie in front of
         // it: an end facing away is hidden by its own object (the far side of a bulb), which says
-        // nothing of the members that face the receiver.
+        // nothing of the members that face the receiver. Clear of either plane by m_coplanar, as the
+        // walk's own plane tests: an end in the receiver's floor is in front or behind by rounding
+        // alone, which a change of unit flips.
         const auto facing = [&](uint32_t k) {
             const Vec3f e = tree.m_pos[k] - r.p;
-            return dot(r.n, e) > 0.f && dot(tree.m_nrm[k], e) < 0.f;
+            return dot(r.n, e) > tree.m_coplanar && dot(tree.m_nrm[k], e) < -tree.m_coplanar;
         };
         if (!facing(s.representative) || !facing(s.probe[0]) || !facing(s.probe[1])) return 2;
         return shared(l, leaf | 0x40000000u, s.centroid, [&] { return seen(l, s); });

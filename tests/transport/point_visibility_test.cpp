@@ -306,6 +306,34 @@ TEST(PointVisibility, DiscPriorFollowsAnyUnit) {
     }
 }
 
+// A lattice of nodes in another unit (× 10, each coordinate rounded a few ulps either way, as a
+// sampler leaves the same point computed in another unit): every node joins the same cluster. On a
+// lattice many nodes lie as far from two centres as rounding can tell; ranked by their float
+// distances they joined one or the other by their unit's rounding (a generated house: ~30 of
+// 16 384 nodes, each moving the prior's tree).
+TEST(PointVisibility, NodesJoinTheSameClustersInAnyUnit) {
+    Points base;
+    test::for_each_face_cell(Vec3f(0.0137f, 0.0071f, 0.0029f), Vec3f(2.f, 2.f, 3.f), 12, test::no_jitter, [&](int, Vec3f p, Vec3f n) {
+        base.p.push_back(p), base.n.push_back(n);
+    });
+    std::vector<Vec3f> twin = base.p;
+    for (size_t j = 0; j < twin.size(); ++j)
+        for (int c = 0; c < 3; ++c) {
+            float x = 10.f * twin[j][c];
+            const int k = int(hash01(3 * j + size_t(c), 9) * 5.f) - 2;   // −2 … 2 ulps
+            for (int u = 0; u < std::abs(k); ++u) x = std::nextafter(x, k > 0 ? INFINITY : -INFINITY);
+            twin[j][c] = x;
+        }
+    const float h = k_spacing;
+    const ClusterVisibility a = cluster_visibility(base.p, base.n, VoxelOccupancy(base.p, base.n, h), 48);
+    const ClusterVisibility b = cluster_visibility(twin, base.n, VoxelOccupancy(twin, base.n, 10.f * h), 48);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t c = 0; c < a.size(); ++c) EXPECT_LT(length(b.position[c] / 10.f - a.position[c]), 1e-5f) << c;
+    size_t moved = 0;
+    for (size_t j = 0; j < base.p.size(); ++j) moved += a.node_cluster[j] != b.node_cluster[j];
+    EXPECT_EQ(moved, 0u);
+}
+
 // Blending the visibility of a receiver's K nearest visible clusters (VisibilityOptions::blend)
 // removes the seams where a receiver changes cluster: along a line over room A's floor, 400
 // steps, the largest step-to-step change of E⁺ is a jump with one cluster and a small fraction

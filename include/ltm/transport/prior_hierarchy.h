@@ -70,6 +70,7 @@
 // consecutive places (a leaf's patch) and the gather its queries by facing and a Morton curve.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <utility>
@@ -80,6 +81,22 @@
 #include "ltm/transport/segment_occlusion.h"
 
 namespace ltm {
+
+/// The grid on which the tree compares coordinates and distances: steps of √a / 64 from the nodes'
+/// lower corner. The same points in another unit come out of the sampler moved by ~1e-5 spacings of
+/// float rounding; compared as floats, points on one wall (one coordinate, up to rounding) were
+/// ordered by that rounding, so the tree's splits, and with them which members an aggregate's rays
+/// go to, changed with the unit (rays: 1.1 % of E⁺ at × 10). On the grid they tie and go by index;
+/// a key changes only for a value within rounding of a step's edge.
+struct KeyGrid {
+    static constexpr double k_per_side = 64.0;
+    static constexpr double k_offset = 0.3819660112501051;   ///< the origin's offset in steps: 2 − φ
+    Vec3f origin{0.f};
+    double step = 1.0;
+    int64_t key(float x, int axis) const { return int64_t(std::floor((double(x) - double(origin[axis])) / step)); }
+    /// Lengths shifted by the same share of a step: a lattice's distances are whole steps too.
+    int64_t length_key(Vec3f e) const { return int64_t(std::floor(double(length(e)) / step + k_offset)); }
+};
 
 class PriorTree {
 public:
@@ -263,6 +280,7 @@ private:
     std::vector<uint32_t> m_leaf_of;       ///< [m] the leaf holding each place (set_rays; empty without rays)
     std::vector<float> m_px, m_py, m_pz, m_nx, m_ny, m_nz;   ///< the same, structure of arrays
     float m_theta = 0.f, m_reg = 0.f, m_side = 0.f;
+    KeyGrid m_grid;                        ///< how the build compares coordinates and distances
     /// Members no further than this in front of the receiver's plane count as in it: a floor's own
     /// nodes for a receiver on that floor (float rounding puts them ±1e-7 off; each adds ≤ 1e-3 of a
     /// neighbour's term, 0 for the patches in the plane). 1e-3 s.
