@@ -169,20 +169,25 @@ struct Trainer::HouseRays {
     Scene house;
     std::unique_ptr<EmbreeAccel> accel;
     std::shared_ptr<const SegmentOcclusion> occlusion;
+    explicit HouseRays(Scene h)
+        : house(std::move(h)), accel(std::make_unique<EmbreeAccel>(house)), occlusion(std::make_shared<MeshOcclusion>(*accel)) {}
 };
 
-std::unique_ptr<Trainer::HouseRays> Trainer::house_rays(const SceneRecord &record, const std::string &where, float length_factor) const {
+std::unique_ptr<Trainer::HouseRays> Trainer::house_rays(const SceneRecord &record, const std::string &where) const {
     if (!m_model_cfg.physics.prior_rays) return nullptr;
-    auto r = std::make_unique<HouseRays>();
+    Scene house;
     try {
-        r->house = regenerate_scene(record);
+        house = regenerate_scene(record);
     } catch (const std::exception &e) {
         LTM_THROW(where, ": physics.prior_rays traces the prior's rays against the record's house, which cannot be regenerated: ", e.what());
     }
-    if (length_factor != 1.f) scale_lengths(r->house, length_factor);
-    r->accel = std::make_unique<EmbreeAccel>(r->house);
-    r->occlusion = std::make_shared<MeshOcclusion>(*r->accel);
-    return r;
+    return std::make_unique<HouseRays>(std::move(house));
+}
+
+std::unique_ptr<Trainer::HouseRays> Trainer::scaled_rays(const HouseRays &rays, float length_factor) {
+    Scene twin = rays.house;
+    scale_lengths(twin, length_factor);
+    return std::make_unique<HouseRays>(std::move(twin));
 }
 
 Trainer::CachedScene &Trainer::scene(size_t index, int set) {
@@ -239,7 +244,7 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             torch::NoGradGuard no_grad;
             // physics.prior_rays: the prior's visibility by rays against the regenerated house's meshes,
             // needed only while the prior is solved and gathered here.
-            const auto rays = house_rays(*c->record, path, 1.f);
+            const auto rays = house_rays(*c->record, path);
             c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale, rays ? rays->occlusion : nullptr);
             c->query_scale = output_scale(c->query_points, c->frame);
             c->frame.transport.reset();   // every value needed is kept; the solve's memory is not
@@ -418,7 +423,7 @@ OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
     const auto qp = sc.query_points.index_select(0, spread_rows(sc.query_points.size(0), nq, m_device));
     // With physics.prior_rays each encode traces the house (×10: the house scaled alike).
     const std::string where = "validation record " + std::to_string(sc.record->seed);
-    const auto rays = house_rays(*sc.record, where, 1.f), rays10 = house_rays(*sc.record, where, 10.f);
+    const auto rays = house_rays(*sc.record, where), rays10 = rays ? scaled_rays(*rays, 10.f) : nullptr;
     auto occlusion = [](const std::unique_ptr<HouseRays> &r) { return r ? r->occlusion : nullptr; };
     const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale, nullptr, occlusion(rays)));
     const double mean = base.abs().mean().item<double>() + 1e-30;

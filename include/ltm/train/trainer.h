@@ -187,10 +187,12 @@ private:
     double validate_directional();
     /// Training or validation scene `index` with point set `set` (0: the record's own; TrainConfig::point_sets).
     CachedScene &scene(size_t index, int set = 0);
-    /// The record's regenerated house (lengths × length_factor) and the prior's rays against it, for
-    /// physics.prior_rays (records keep no meshes); null without prior_rays. Errors name `where`.
+    /// The record's regenerated house and the prior's rays against it, for physics.prior_rays
+    /// (records keep no meshes); null without prior_rays. Errors name `where`.
     struct HouseRays;
-    std::unique_ptr<HouseRays> house_rays(const SceneRecord &record, const std::string &where, float length_factor) const;
+    std::unique_ptr<HouseRays> house_rays(const SceneRecord &record, const std::string &where) const;
+    /// The same house with every length × factor (the unit check's twin), without regenerating it.
+    static std::unique_ptr<HouseRays> scaled_rays(const HouseRays &rays, float length_factor);
     TrainStepLog train_step();
     bool is_root() const { return m_comm->is_root(); }
     /// Sums the gradients over the ranks; a parameter keeps no gradient only if no rank gave it one.
