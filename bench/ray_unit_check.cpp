@@ -191,6 +191,20 @@ int main(int argc, char **argv) {
                 for (size_t j = 0; j < x.visibility.node_cluster.size(); ++j) cl += x.visibility.node_cluster[j] != y.visibility.node_cluster[j];
                 for (size_t k = 0; k < x.tree->nodes(); ++k) places += x.tree->place_nodes()[k] != y.tree->place_nodes()[k];
                 if (std::getenv("RAY_UNIT_POINTS_DEBUG"))
+                    for (size_t k = 0; k < x.tree->nodes(); ++k)
+                        if (x.tree->place_nodes()[k] != y.tree->place_nodes()[k]) {
+                            const uint32_t ja = x.tree->place_nodes()[k], jb = y.tree->place_nodes()[k];
+                            const uint32_t ca = x.visibility.node_cluster[ja], cb = x.visibility.node_cluster[jb];
+                            Vec3f na(0.f), nb(0.f);
+                            for (size_t j = 0; j < x.position.size(); ++j) {
+                                if (x.visibility.node_cluster[j] == ca) na += x.normal[j];
+                                if (x.visibility.node_cluster[j] == cb) nb += x.normal[j];
+                            }
+                            std::printf("first moved place %zu: node %u (cluster %u, normal sum %.4f %.4f %.4f) vs node %u (cluster %u, normal sum %.4f %.4f %.4f)\n", k, ja,
+                                        ca, na.x, na.y, na.z, jb, cb, nb.x, nb.y, nb.z);
+                            break;
+                        }
+                if (std::getenv("RAY_UNIT_POINTS_DEBUG"))
                     for (size_t j = 0; j < x.visibility.node_cluster.size(); ++j) {
                         const uint32_t cx = x.visibility.node_cluster[j], cy = y.visibility.node_cluster[j];
                         if (cx == cy) continue;
