@@ -83,14 +83,15 @@
 namespace ltm {
 
 /// The grid on which the tree compares coordinates and distances: steps of √a / 64 from the nodes'
-/// lower corner. The same points in another unit come out of the sampler moved by ~1e-5 spacings of
-/// float rounding; compared as floats, points on one wall (one coordinate, up to rounding) were
-/// ordered by that rounding, so the tree's splits, and with them which members an aggregate's rays
-/// go to, changed with the unit (rays: 1.1 % of E⁺ at × 10). On the grid they tie and go by index;
-/// a key changes only for a value within rounding of a step's edge.
+/// lower corner (less 2 − φ of a step). The same points in another unit come out of the sampler moved
+/// by ~1e-5 spacings of float rounding; compared as floats, values equal up to that rounding (nodes
+/// on one line or lattice, members of a symmetric patch at one distance from its centroid) were
+/// ordered by it, so the tree's splits, and with them which members an aggregate's rays go to,
+/// changed with the unit (rays: 1.1 % of E⁺ at × 10 in a generated house). On the grid they tie and
+/// go by index; a key changes only for a value within rounding of a step's edge.
 struct KeyGrid {
     static constexpr double k_per_side = 64.0;
-    static constexpr double k_offset = 0.3819660112501051;   ///< the origin's offset in steps: 2 − φ
+    static constexpr double k_offset = 0.3819660112501051;   ///< 2 − φ: the origin's and the lengths' shift, in steps
     Vec3f origin{0.f};
     double step = 1.0;
     int64_t key(float x, int axis) const { return int64_t(std::floor((double(x) - double(origin[axis])) / step)); }
