@@ -202,6 +202,28 @@ int main(int argc, char **argv) {
                             }
                             std::printf("first moved place %zu: node %u (cluster %u, normal sum %.4f %.4f %.4f) vs node %u (cluster %u, normal sum %.4f %.4f %.4f)\n", k, ja,
                                         ca, na.x, na.y, na.z, jb, cb, nb.x, nb.y, nb.z);
+                            // Both clusters' centroids on the tree's key grid, in both units.
+                            for (const TransportPrior *t : {&x, &y}) {
+                                KeyGrid grid;
+                                const float side = std::sqrt(float(t == &x ? 1.0 : double(f) * f) * float(a.scene().total_area() / double(sa.points.size())));
+                                grid.step = double(side) / KeyGrid::k_per_side;
+                                grid.origin = t->position[0];
+                                for (const Vec3f &q : t->position) grid.origin = min(grid.origin, q);
+                                grid.origin = grid.origin - Vec3f(float(KeyGrid::k_offset * grid.step));
+                                for (uint32_t c : {ca, cb}) {
+                                    Vec3f cp(0.f);
+                                    size_t count = 0;
+                                    for (size_t j = 0; j < t->position.size(); ++j) count += x.visibility.node_cluster[j] == c;
+                                    for (size_t j = 0; j < t->position.size(); ++j)
+                                        if (x.visibility.node_cluster[j] == c) cp += t->position[j] / float(count);
+                                    std::printf("  %s cluster %u: centroid / unit %.7f %.7f %.7f, keys %lld %lld %lld, fractions %.5f %.5f %.5f\n", t == &x ? "unit 1" : "unit f", c,
+                                                cp.x / (t == &x ? 1.f : f), cp.y / (t == &x ? 1.f : f), cp.z / (t == &x ? 1.f : f), (long long)grid.key(cp.x, 0),
+                                                (long long)grid.key(cp.y, 1), (long long)grid.key(cp.z, 2),
+                                                (double(cp.x) - grid.origin.x) / grid.step - double(grid.key(cp.x, 0)),
+                                                (double(cp.y) - grid.origin.y) / grid.step - double(grid.key(cp.y, 1)),
+                                                (double(cp.z) - grid.origin.z) / grid.step - double(grid.key(cp.z, 2)));
+                                }
+                            }
                             break;
                         }
                 if (std::getenv("RAY_UNIT_POINTS_DEBUG"))
