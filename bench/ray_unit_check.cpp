@@ -204,12 +204,7 @@ int main(int argc, char **argv) {
                                         ca, na.x, na.y, na.z, jb, cb, nb.x, nb.y, nb.z);
                             // Both clusters' centroids on the tree's key grid, in both units.
                             for (const TransportPrior *t : {&x, &y}) {
-                                KeyGrid grid;
-                                const float side = std::sqrt(float(t == &x ? 1.0 : double(f) * f) * float(a.scene().total_area() / double(sa.points.size())));
-                                grid.step = double(side) / KeyGrid::k_per_side;
-                                grid.origin = t->position[0];
-                                for (const Vec3f &q : t->position) grid.origin = min(grid.origin, q);
-                                grid.origin = grid.origin - Vec3f(float(KeyGrid::k_offset * grid.step));
+                                const KeyGrid &grid = t->tree->key_grid();
                                 for (uint32_t c : {ca, cb}) {
                                     Vec3f cp(0.f);
                                     size_t count = 0;

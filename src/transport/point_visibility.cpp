@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "ltm/core/error.h"
+#include "ltm/core/key_grid.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/sampling.h"
 
@@ -163,7 +164,7 @@ bool ClusterVisibility::blocked(Vec3f a, Vec3f na, Vec3f b, Vec3f nb) const {
 namespace {
 // The k_candidates nearest centres whose normal is within 90° of n, nearest first (insertion into
 // a short sorted list), and the nearest centre of all. Returns the count. Distances are ranked on
-// steps of h/1024 (h the occupancy's voxel; shifted by 2 − φ of a step, as PriorTree's KeyGrid): a
+// steps of h/1024 (h the occupancy's voxel; core/key_grid.h): a
 // node as far from two centres as rounding can tell (a generated house: ~30 of 16 384 nodes)
 // otherwise joined one or the other by the rounding of its unit. Ties go to the centre nearer the
 // grid's centre (on the same steps), which the training symmetries and the unit keep, and only then
@@ -174,9 +175,11 @@ size_t facing_candidates(const ClusterVisibility &v, Vec3f p, Vec3f n, std::pair
                          uint32_t &nearest) {
     constexpr size_t k = ClusterVisibility::k_candidates;
     const double step = double(v.occupancy.voxel()) / 1024.0;
-    auto rank = [step](Vec3f d) {
-        const float d2 = dot(d, d);
-        return step > 0.0 ? int64_t(std::floor(std::sqrt(double(d2)) / step + 0.3819660112501051)) : int64_t(double(d2) * 0x1p40);
+    const KeyGrid steps{Vec3f(0.f), step};
+    // A ClusterVisibility put together by hand has no occupancy (step 0): its d² as they are.
+    auto rank = [&](Vec3f d) {
+        const double d2 = double(dot(d, d));
+        return step > 0.0 ? steps.distance_key(std::sqrt(d2)) : int64_t(d2 * 0x1p40);
     };
     const Vec3f middle = v.occupancy.center();
     using Key = std::tuple<int64_t, int64_t, uint32_t>;
@@ -326,7 +329,7 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
     };
     const double centre[3] = {double(c0.x), double(c0.y), double(c0.z)};
     const double tie = 1e-9 * g * g;   // distances equal within rounding (first_end)
-    const double step = g / 1024.0;    // the centres' ranking of distances
+    const KeyGrid steps{Vec3f(0.f), g / 1024.0};   // the centres' ranking of distances
     for (size_t b = 0; b < m;) {
         size_t e = b;
         double mean[3] = {0, 0, 0};
@@ -336,10 +339,10 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
         // Nearest to the mean. A group of two is an exact tie (both at half their distance), and a
         // tie broken by position order is not mirror-equivariant; the distance to the grid's
         // centre is (the maps keep the centre), so ties go to the node nearer the centre, and only
-        // then to the smaller position. Distances are compared on steps of g/1024 (shifted by 2 − φ
-        // of a step): ties within rounding include the rounding of another unit, a few ulps of each
-        // coordinate, which a tolerance on d² (1e-9 g²) did not.
-        auto rank = [&](Vec3f p, const double *q) { return int64_t(std::floor(std::sqrt(dist2(p, q)) / step + 0.3819660112501051)); };
+        // then to the smaller position. Distances are compared on steps of g/1024 (core/key_grid.h):
+        // ties within rounding include the rounding of another unit, a few ulps of each coordinate,
+        // which a tolerance on d² (1e-9 g²) did not.
+        auto rank = [&](Vec3f p, const double *q) { return steps.distance_key(std::sqrt(dist2(p, q))); };
         size_t best = b;
         auto best_key = std::make_pair(rank(pos[members[b].node], mean), rank(pos[members[b].node], centre));
         for (size_t k = b + 1; k < e; ++k) {   // in position order

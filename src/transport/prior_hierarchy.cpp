@@ -24,6 +24,9 @@ constexpr float k_flat_cos = 0.8253356f;   // cos 0.6
 // lie within this share of the distance to it (RayFilter).
 constexpr float k_ray_share = 0.05f;
 constexpr int k_share_bits = 12;   // RayShare's slots: 4 096
+// The build's key grid (KeyGrid): steps of √a / 64, far above the ~1e-5 spacings of rounding that a
+// change of unit leaves, far below the points' spacing.
+constexpr double k_keys_per_side = 64.0;
 
 // Which way a normal faces most: 2a for +axis a, 2a + 1 for −axis a.
 int facing_class(Vec3f n) {
@@ -35,8 +38,8 @@ int facing_class(Vec3f n) {
 // Splits items[lo, hi) (≥ 2) into two non-empty halves and returns the first place of the second.
 // Items facing several ways are sorted by facing (then by index) and cut at the class boundary
 // nearest the middle; items facing one way at the median of their longest extent (ties by index).
-// Coordinates and extents are compared on the tree's key grid (PriorTree::KeyGrid), so that the
-// same points in another unit, which float rounding moves by ~1e-5 spacings, split alike.
+// Coordinates and extents are compared on the tree's key grid (core/key_grid.h), so that the same
+// points in another unit, which float rounding moves by ~1e-5 spacings, split alike.
 template <class PosOf, class NrmOf>
 uint32_t split(std::vector<uint32_t> &items, uint32_t lo, uint32_t hi, PosOf pos, NrmOf nrm, const KeyGrid &grid) {
     const auto first = items.begin() + lo, last = items.begin() + hi;
@@ -82,7 +85,7 @@ PriorTree::PriorTree(const std::vector<Vec3f> &position, const std::vector<Vec3f
     m_coplanar = 1e-3f * m_side;
     m_clusters = vis.empty() ? 1 : vis.size();
     if (m == 0) return;
-    m_grid.step = double(m_side) / KeyGrid::k_per_side;
+    m_grid.step = double(m_side) / k_keys_per_side;
     m_grid.origin = position[0];
     for (const Vec3f &p : position) m_grid.origin = min(m_grid.origin, p);
     // Off the lowest node by an irrational share of a step, so that points on a lattice from it
@@ -182,17 +185,18 @@ void PriorTree::summarise(Node &t) const {
     }
     t.centroid = Vec3f(float(c[0] / double(t.hi - t.lo)), float(c[1] / double(t.hi - t.lo)), float(c[2] / double(t.hi - t.lo)));
     t.radius = 0.f;
-    for (uint32_t k = t.lo; k < t.hi; ++k) t.radius = std::max(t.radius, length(m_pos[k] - t.centroid));
     // The members the rays go to, chosen by distances on the key grid (ties: the first place), so that
     // rounding does not pick another member of a symmetric patch in another unit: the representative
     // nearest the centroid, and the ends of the longest extent — the member farthest from the
     // centroid, and the one farthest from that.
-    int64_t nearest = std::numeric_limits<int64_t>::max();
-    for (uint32_t k = t.lo; k < t.hi; ++k)
-        if (const int64_t r = m_grid.length_key(m_pos[k] - t.centroid); r < nearest) nearest = r, t.representative = k;
-    int64_t far = -1;
-    for (uint32_t k = t.lo; k < t.hi; ++k)
-        if (const int64_t r = m_grid.length_key(m_pos[k] - t.centroid); r > far) far = r, t.probe[0] = k;
+    int64_t nearest = std::numeric_limits<int64_t>::max(), far = -1;
+    for (uint32_t k = t.lo; k < t.hi; ++k) {
+        const float r = length(m_pos[k] - t.centroid);
+        t.radius = std::max(t.radius, r);
+        const int64_t key = m_grid.distance_key(double(r));
+        if (key < nearest) nearest = key, t.representative = k;
+        if (key > far) far = key, t.probe[0] = k;
+    }
     far = -1;
     for (uint32_t k = t.lo; k < t.hi; ++k)
         if (const int64_t r = m_grid.length_key(m_pos[k] - m_pos[t.probe[0]]); r > far) far = r, t.probe[1] = k;

@@ -76,28 +76,12 @@
 #include <utility>
 #include <vector>
 
+#include "ltm/core/key_grid.h"
 #include "ltm/core/math.h"
 #include "ltm/transport/point_visibility.h"
 #include "ltm/transport/segment_occlusion.h"
 
 namespace ltm {
-
-/// The grid on which the tree compares coordinates and distances: steps of √a / 64 from the nodes'
-/// lower corner (less 2 − φ of a step). The same points in another unit come out of the sampler moved
-/// by ~1e-5 spacings of float rounding; compared as floats, values equal up to that rounding (nodes
-/// on one line or lattice, members of a symmetric patch at one distance from its centroid) were
-/// ordered by it, so the tree's splits, and with them which members an aggregate's rays go to,
-/// changed with the unit (rays: 1.1 % of E⁺ at × 10 in a generated house). On the grid they tie and
-/// go by index; a key changes only for a value within rounding of a step's edge.
-struct KeyGrid {
-    static constexpr double k_per_side = 64.0;
-    static constexpr double k_offset = 0.3819660112501051;   ///< 2 − φ: the origin's and the lengths' shift, in steps
-    Vec3f origin{0.f};
-    double step = 1.0;
-    int64_t key(float x, int axis) const { return int64_t(std::floor((double(x) - double(origin[axis])) / step)); }
-    /// Lengths shifted by the same share of a step: a lattice's distances are whole steps too.
-    int64_t length_key(Vec3f e) const { return int64_t(std::floor(double(length(e)) / step + k_offset)); }
-};
 
 class PriorTree {
 public:
@@ -126,6 +110,8 @@ public:
     /// The lift of the rays' ends off their surfaces: 10⁻³ of the nodes' spacing √a.
     float ray_lift() const { return 1e-3f * m_side; }
 
+    /// The grid on which the build compared coordinates and distances (benches compare units with it).
+    const KeyGrid &key_grid() const { return m_grid; }
     bool empty() const { return m_place_node.empty(); }
     size_t nodes() const { return m_place_node.size(); }
     /// Bytes the tree holds (its arrays; what a receiver's traversal allocates is not counted).
@@ -281,7 +267,7 @@ private:
     std::vector<uint32_t> m_leaf_of;       ///< [m] the leaf holding each place (set_rays; empty without rays)
     std::vector<float> m_px, m_py, m_pz, m_nx, m_ny, m_nz;   ///< the same, structure of arrays
     float m_theta = 0.f, m_reg = 0.f, m_side = 0.f;
-    KeyGrid m_grid;                        ///< how the build compares coordinates and distances
+    KeyGrid m_grid;                        ///< how the build compares coordinates and distances: steps of √a / 64
     /// Members no further than this in front of the receiver's plane count as in it: a floor's own
     /// nodes for a receiver on that floor (float rounding puts them ±1e-7 off; each adds ≤ 1e-3 of a
     /// neighbour's term, 0 for the patches in the plane). 1e-3 s.
