@@ -155,6 +155,22 @@ CLI::Option *add_scene_points_option(CLI::App *sub, int &dst, const std::string 
         ->check(CLI::Range(-1, std::numeric_limits<int>::max()));
 }
 
+void add_gi_refine_options(CLI::App &sub, int &levels, float &contrast) {
+    sub.add_option("--gi-levels", levels,
+                   "GI lattices decoded coarse to fine (neural): the first at stride x 2^(N-1); each finer lattice's new "
+                   "pixels are blended from the coarser one where its corners agree within --gi-contrast and lie on "
+                   "their surface, else decoded (1: one lattice, every lattice pixel decoded; auto: up to 4, the "
+                   "first lattice keeping >= 64 pixels across the image)")
+        ->transform(CLI::Transformer(std::map<std::string, int>{{"auto", 0}}))
+        ->check(CLI::Range(0, 8))
+        ->default_str(levels == 0 ? "auto" : std::to_string(levels));
+    sub.add_option("--gi-contrast", contrast,
+                   "With --gi-levels > 1: a finer lattice pixel is decoded where its coarse corners' E+ differ by more "
+                   "than this share of their blend (summed over the channels)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 10.0));
+}
+
 Shard shard_option(const std::string &flag_value) {
     if (!flag_value.empty()) return Shard::parse(flag_value);
     const char *id = std::getenv("SLURM_ARRAY_TASK_ID"), *n = std::getenv("SLURM_ARRAY_TASK_COUNT");

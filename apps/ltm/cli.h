@@ -98,7 +98,12 @@ struct NeuralRenderArgs {
     double prior_theta = -1;       ///< < 0: the model's own (set_prior_theta otherwise)
     bool prior_rays = false;       ///< --prior-rays: the prior's visibility by rays (set_prior_rays)
     std::string bounce = "auto";   ///< --glossy trace: Ê⁺ at the bounce's hits, auto | nodes | decode (BounceIrradiance)
+    int gi_levels = 0;             ///< --gi-levels: lattices decoded coarse to fine (GiUpsampleOptions::levels); 0: auto_gi_levels
+    float gi_contrast = 0.05f;     ///< --gi-contrast: where a finer lattice pixel is decoded (GiUpsampleOptions::contrast)
 };
+
+/// `--gi-levels` and `--gi-contrast` (render and eval).
+void add_gi_refine_options(CLI::App &sub, int &levels, float &contrast);
 
 /// `--bounce-irradiance`'s help, shared by render and eval.
 inline constexpr const char *k_bounce_irradiance_help =

@@ -52,6 +52,7 @@ void declare(CLI::App &sub, EvalArgs &a) {
                    "Also evaluate each model with E+ decoded on every N-th pixel and interpolated (rows model:NAME/giN)")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
+    add_gi_refine_options(sub, a.opt.gi_levels, a.opt.gi_contrast);
     sub.add_flag("--ref-noise", a.opt.reference_noise,
                  "Also estimate each reference's own noise, the MSE floor no method can go below (one more reference with "
                  "independent samples, cached like it): reference_noise_mse in report.json, a line under the table");

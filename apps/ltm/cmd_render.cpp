@@ -23,7 +23,8 @@ struct RenderArgs {
                 bounce = "auto";
     int spp = 64, max_depth = 5, width = 0, height = 0, direct_spp = 16, gi_stride = 1, guide_points = 1024, guide_resolution = 16, glossy_samples = 0,
         scene_points = 0;
-    float exposure = 1.f, guide_alpha = 0.25f;
+    float exposure = 1.f, guide_alpha = 0.25f, gi_contrast = 0.05f;
+    int gi_levels = 0;   ///< 0: auto
     double prior_theta = -1;
     bool prior_rays = false;
 };
@@ -75,6 +76,7 @@ void declare(CLI::App &sub, RenderArgs &a) {
                    "Decode E+ on every N-th pixel in x and y and interpolate on matching surfaces (neural; 1: every pixel)")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
+    add_gi_refine_options(sub, a.gi_levels, a.gi_contrast);
     sub.add_option("--max-depth", a.max_depth, "Scattering events after the first hit (pathtrace)")->capture_default_str();
     add_camera_option(sub, a.camera);
     sub.add_option("--width", a.width, "Width (default: the camera's)")->check(CLI::Range(1, 16384));
@@ -92,7 +94,8 @@ void run(const RenderArgs &a, const CommonOptions &common) {
         if (a.direct_spp <= 0) LTM_THROW("--direct-spp ", a.direct_spp, ": must be > 0");
         run_neural_render(
             {a.scene, a.camera, a.model, prefix, a.width, a.height, a.direct_spp, a.exposure, true, a.gi_stride,
-             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta, a.prior_rays, a.bounce},
+             a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta, a.prior_rays, a.bounce,
+             a.gi_levels, a.gi_contrast},
             common);
         return;
     #else

@@ -43,7 +43,8 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     NeuralRenderOptions opt;
     opt.direct_spp = a.direct_spp, opt.direct = parse_direct_estimator(a.direct_estimator);
     opt.seed = common.seed, opt.exclude_enclosed = a.exclude_enclosed;
-    opt.gi.stride = a.gi_stride;
+    opt.gi.stride = a.gi_stride, opt.gi.contrast = a.gi_contrast;
+    opt.gi.levels = a.gi_levels > 0 ? a.gi_levels : auto_gi_levels(a.gi_stride, cam.width, cam.height);
     opt.glossy_samples = a.glossy_samples;
     opt.glossy = glossy;
     opt.bounce = parse_bounce_irradiance(a.bounce);
@@ -66,6 +67,8 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                      {"height", cam.height},
                      {"queries", r.n_queries},
                      {"gi_stride", a.gi_stride},
+                     {"gi_levels", opt.gi.levels},
+                     {"gi_contrast", a.gi_contrast},
                      {"decoded", r.n_decoded},
                      {"scene_points", r.n_scene_points},
                      {"direct_spp", a.direct_spp},

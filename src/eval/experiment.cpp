@@ -177,14 +177,17 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 add("model-prior:" + models[mi].name, prior_only,
                     e.sample_seconds + e.geometry_seconds + e.latents.norm.solve_seconds + seconds_since(t_prior_row), 0,
                     e.n_scene_points);
-                if (opt.gi_stride > 1) {
+                const int gi_levels = opt.gi_levels > 0 ? opt.gi_levels : auto_gi_levels(opt.gi_stride, cam.width, cam.height);
+                if (opt.gi_stride > 1 || gi_levels > 1) {
                     GiUpsampleOptions gi;
-                    gi.stride = opt.gi_stride;
+                    gi.stride = opt.gi_stride, gi.levels = gi_levels, gi.contrast = opt.gi_contrast;
                     const auto t1 = Clock::now();
                     const Image up = scatter_to_image(gb, predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
                     const double up_s = e.sample_seconds + e.geometry_seconds + e.encode_seconds +
                                         seconds_since(t1);
-                    add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride), up, up_s, 0, e.n_scene_points);
+                    add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride) +
+                            (gi_levels > 1 ? "-L" + std::to_string(gi_levels) : ""),
+                        up, up_s, 0, e.n_scene_points);
                 }
             }
             const IrradianceImages b64 = irradiance_images(pt_64, gb, opt.baseline_spp, true);

@@ -122,15 +122,14 @@ std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene
                                              const Camera &camera, const GiUpsampleOptions &opt, PredictTimings *timings,
                                              int64_t *n_decoded, bool prior_only) {
     if (timings) *timings = {};
-    if (opt.stride == 1) {
+    if (opt.stride == 1 && opt.levels == 1) {
         if (n_decoded) *n_decoded = int64_t(gb.n_hits());
         return predict_hits(model, enc, gb, nullptr, timings, prior_only);
     }
-    const std::vector<size_t> lattice = lattice_hits(gb, opt.stride);
-    GiInterpolation r = interpolate_from_lattice(gb, camera, predict_hits(model, enc, gb, &lattice, timings, prior_only), opt);
-    const std::vector<Vec3f> own = predict_hits(model, enc, gb, &r.needs_decode, timings, prior_only);
-    for (size_t k = 0; k < own.size(); ++k) r.values[r.needs_decode[k]] = own[k];
-    if (n_decoded) *n_decoded = int64_t(lattice.size() + r.needs_decode.size());
+    GiUpsampled r = upsample_gi(gb, camera, opt, [&](const std::vector<size_t> &hits) {
+        return predict_hits(model, enc, gb, &hits, timings, prior_only);
+    });
+    if (n_decoded) *n_decoded = r.decoded;
     return std::move(r.values);
 }
 

@@ -27,6 +27,8 @@ struct EvalOptions {
     std::string out_dir;             ///< grids go here (empty: no images)
     std::string ref_cache_dir;       ///< reuse/keep references here (eval/reference_cache.h; empty: off)
     int gi_stride = 1;               ///< > 1: also each model with E⁺ on a pixel lattice ("model:NAME/gi<S>")
+    int gi_levels = 1;               ///< > 1: that lattice coarse to fine ("model:NAME/gi<S>-L<levels>"; GiUpsampleOptions); 0: auto_gi_levels
+    float gi_contrast = 0.05f;       ///< GiUpsampleOptions::contrast
     /// Also estimate each reference's own noise (ViewResult::reference_noise_mse): costs one more
     /// reference's time per view (a twin of it), cached like the reference.
     bool reference_noise = false;
