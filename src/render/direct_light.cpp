@@ -2,7 +2,10 @@
 #include "ltm/render/direct_light.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 #include "ltm/core/error.h"
 #include "ltm/core/rng.h"
@@ -15,37 +18,58 @@ namespace {
 constexpr uint64_t k_ratio_domain = 5ull << 60;   // streams disjoint from the path tracer's
 }
 
-float triangle_irradiance(Vec3f p, Vec3f n, Vec3f v0, Vec3f v1, Vec3f v2) {
+namespace {
+using D3 = std::array<double, 3>;
+D3 diff(Vec3f a, Vec3f b) { return {double(a.x) - double(b.x), double(a.y) - double(b.y), double(a.z) - double(b.z)}; }   // a − b
+double dot3(const D3 &a, const D3 &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+D3 cross3(const D3 &a, const D3 &b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+
+// One edge's term of Lambert's formula, θ · n·(â × b̂)/|â × b̂| for the directions a, b from the
+// receiver to its ends (0 for an edge through the receiver or of zero angle: no area from it). In
+// double: a lamp's terms are each of the order of its angular size and their sum of its square, so
+// a far lamp's sum cancels most of its terms' digits (in float, a 0.2 m sphere 3 m away came out
+// 0.5 % off).
+double edge_term(D3 a, D3 b, const D3 &n) {
+    const double la = std::sqrt(dot3(a, a)), lb = std::sqrt(dot3(b, b));
+    if (!(la > 0.0) || !(lb > 0.0)) return 0.0;
+    for (int i = 0; i < 3; ++i) a[i] /= la, b[i] /= lb;
+    const D3 c = cross3(a, b);
+    const double len = std::sqrt(dot3(c, c));
+    if (!(len > 0.0)) return 0.0;
+    return std::atan2(len, dot3(a, b)) * dot3(n, c) / len;   // atan2: accurate for small angles
+}
+
+// Lambert's sum for one triangle clipped to the hemisphere, before its sign is dropped: the terms of
+// every front-facing triangle share one sign (header), so a mesh's sum can cancel shared edges.
+double triangle_sum(Vec3f p, Vec3f nf, Vec3f v0, Vec3f v1, Vec3f v2) {
     // One-sided emitter: the receiver must be on the side its normal points to.
-    const Vec3f ng = cross(v1 - v0, v2 - v0);
-    if (!(dot(ng, p - v0) > 0.f)) return 0.f;
+    if (!(dot(cross(v1 - v0, v2 - v0), p - v0) > 0.f)) return 0.0;
     // Clip to the receiver's upper hemisphere (Sutherland–Hodgman against n·(x − p) = 0), in
     // coordinates relative to p: a convex polygon of at most 4 vertices above the horizon.
-    const Vec3f in[3] = {v0 - p, v1 - p, v2 - p};
-    Vec3f poly[4];
+    const D3 n{nf.x, nf.y, nf.z};
+    const D3 in[3] = {diff(v0, p), diff(v1, p), diff(v2, p)};
+    D3 poly[4];
     int m = 0;
     for (int i = 0; i < 3; ++i) {
-        const Vec3f a = in[i], b = in[(i + 1) % 3];
-        const float da = dot(n, a), db = dot(n, b);
-        if (da >= 0.f) poly[m++] = a;
-        if ((da >= 0.f) != (db >= 0.f)) {
-            const float t = da / (da - db);
-            poly[m++] = a + (b - a) * t;
+        const D3 &a = in[i], &b = in[(i + 1) % 3];
+        const double da = dot3(n, a), db = dot3(n, b);
+        if (da >= 0.0) poly[m++] = a;
+        if ((da >= 0.0) != (db >= 0.0)) {
+            const double t = da / (da - db);
+            poly[m++] = {a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t, a[2] + (b[2] - a[2]) * t};
         }
     }
-    if (m < 3) return 0.f;
+    if (m < 3) return 0.0;
     // Lambert: E = 1/2 · Σ_i θ_i · n·(r_i × r_{i+1})/|r_i × r_{i+1}| with unit r_i; the clipped
     // polygon is convex and above the horizon, so the terms share one sign (the winding's).
     double sum = 0.0;
-    for (int i = 0; i < m; ++i) {
-        const Vec3f a = normalize(poly[i]), b = normalize(poly[(i + 1) % m]);
-        const Vec3f c = cross(a, b);
-        const float len = length(c);
-        if (!(len > 0.f)) continue;   // a vertex on p itself or collinear: no area from this edge
-        const double theta = std::atan2(double(len), double(dot(a, b)));   // accurate for small angles
-        sum += theta * double(dot(n, c)) / double(len);
-    }
-    return float(std::abs(0.5 * sum));
+    for (int i = 0; i < m; ++i) sum += edge_term(poly[i], poly[(i + 1) % m], n);
+    return 0.5 * sum;
+}
+}  // namespace
+
+float triangle_irradiance(Vec3f p, Vec3f n, Vec3f v0, Vec3f v1, Vec3f v2) {
+    return float(std::abs(triangle_sum(p, n, v0, v1, v2)));
 }
 
 bool RatioDirectLight::supports(const Scene &scene) {
@@ -74,14 +98,74 @@ RatioDirectLight::RatioDirectLight(const EmbreeAccel &accel, uint64_t seed) : m_
         if (l.cdf.empty()) continue;
         for (double &c : l.cdf) c /= total;
         l.cdf.back() = 1.0;
+        l.index_edges();
         m_lights.push_back(std::move(l));
     }
 }
 
+void RatioDirectLight::Light::index_edges() {
+    const size_t T = v.size() / 3;
+    plane.resize(T);
+    for (size_t t = 0; t < T; ++t) plane[t] = cross(v[3 * t + 1] - v[3 * t], v[3 * t + 2] - v[3 * t]);
+    // Directed edge (a → b) of triangle t, side k: v[3t + k] → v[3t + (k + 1) % 3], keyed by its
+    // ends' coordinates (files repeat a shared vertex as often as they index it). An edge is paired
+    // with the one traversing it the other way when exactly one does and no third side runs along it.
+    using Key = std::array<float, 6>;
+    std::map<Key, std::vector<uint32_t>> sides;   // ordered key: the pairing does not depend on hashing
+    auto key = [](Vec3f a, Vec3f b) { return Key{a.x, a.y, a.z, b.x, b.y, b.z}; };
+    for (uint32_t s = 0; s < uint32_t(3 * T); ++s) {
+        const uint32_t t = s / 3, k = s % 3;
+        const Vec3f a = v[3 * t + k], b = v[3 * t + (k + 1) % 3];
+        // Undirected: the smaller end first.
+        const bool forward = std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+        sides[forward ? key(a, b) : key(b, a)].push_back(s);
+    }
+    twin.assign(3 * T, -1);
+    for (const auto &[k, list] : sides) {
+        if (list.size() != 2) continue;
+        const uint32_t s0 = list[0], s1 = list[1];
+        const Vec3f a0 = v[3 * (s0 / 3) + s0 % 3], a1 = v[3 * (s1 / 3) + s1 % 3];
+        if (a0 == a1) continue;   // the same direction: the two faces disagree on their winding, no cancellation
+        twin[s0] = int32_t(s1 / 3), twin[s1] = int32_t(s0 / 3);
+    }
+    Vec3f lo = v[0], hi = v[0];
+    for (const Vec3f &x : v) lo = min(lo, x), hi = max(hi, x);
+    centre = (lo + hi) * 0.5f;
+    radius = 0.f;
+    for (const Vec3f &x : v) radius = std::max(radius, length(x - centre));
+}
+
 float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const {
-    float g = 0.f;
-    for (size_t t = 0; t < l.v.size(); t += 3) g += triangle_irradiance(p, n, l.v[t], l.v[t + 1], l.v[t + 2]);
-    return g;
+    // Σ_t |S_t| over the triangles = |Σ_t S_t| (their signs agree, header). An edge shared by two
+    // front-facing triangles that lie wholly above the horizon appears in both with opposite
+    // directions, and its terms cancel exactly: only the edges around that region are summed (a
+    // tessellated sphere: its outline, not its ~1 000 faces in view). Triangles that the horizon
+    // cuts keep their clipped sums whole.
+    const size_t T = l.plane.size();
+    thread_local std::vector<uint8_t> whole;   // front-facing and wholly above the horizon
+    whole.assign(T, 0);
+    // Every vertex above the horizon when the light's bounding sphere is (with room for rounding).
+    const bool all_above = dot(n, l.centre - p) > l.radius * 1.0001f + 1e-6f * length(l.centre - p);
+    const D3 nd{n.x, n.y, n.z};
+    double sum = 0.0;
+    for (size_t t = 0; t < T; ++t) {
+        const Vec3f v0 = l.v[3 * t];
+        if (!(dot(l.plane[t], p - v0) > 0.f)) continue;   // behind the emitter or edge-on: 0
+        // Wholly above as triangle_sum clips (in double): its sum is then its three edges' terms.
+        if (all_above || (dot3(nd, diff(v0, p)) >= 0.0 && dot3(nd, diff(l.v[3 * t + 1], p)) >= 0.0 && dot3(nd, diff(l.v[3 * t + 2], p)) >= 0.0))
+            whole[t] = 1;
+        else
+            sum += triangle_sum(p, n, v0, l.v[3 * t + 1], l.v[3 * t + 2]);
+    }
+    for (size_t t = 0; t < T; ++t) {
+        if (!whole[t]) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t tw = l.twin[3 * t + size_t(k)];
+            if (tw >= 0 && whole[size_t(tw)]) continue;
+            sum += 0.5 * edge_term(diff(l.v[3 * t + size_t(k)], p), diff(l.v[3 * t + size_t(k + 1) % 3], p), nd);
+        }
+    }
+    return float(std::abs(sum));
 }
 
 Vec3f RatioDirectLight::unoccluded(Vec3f p, Vec3f n) const {

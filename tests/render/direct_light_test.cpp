@@ -2,7 +2,11 @@
 // path tracer's unbiased MIS estimator of E_direct (the ground truth, tested against closed forms).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+
 #include "ltm/core/error.h"
+#include "ltm/core/rng.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/path_tracer.h"
 #include "ltm/scene/builtin_scenes.h"
@@ -71,6 +75,100 @@ TEST(DirectLight, TriangleIrradianceKnownValues) {
         << "the same triangle facing up emits away from the receiver";
     EXPECT_EQ(triangle_irradiance({0, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, -1, 1}, {1, -1, 0}), 0.f)
         << "facing the receiver's side but below its horizon";
+}
+
+// Lambert's formula for one triangle in double precision, clipped to the hemisphere as
+// triangle_irradiance clips it: the reference for sums over many small triangles, whose float terms
+// lose digits to cancellation.
+double triangle_irradiance_double(Vec3f pf, Vec3f nf, Vec3f v0, Vec3f v1, Vec3f v2) {
+    using D3 = std::array<double, 3>;
+    auto sub = [](Vec3f a, Vec3f b) { return D3{double(a.x) - b.x, double(a.y) - b.y, double(a.z) - b.z}; };
+    auto dotd = [](const D3 &a, const D3 &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    auto crossd = [](const D3 &a, const D3 &b) { return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; };
+    const D3 n{nf.x, nf.y, nf.z};
+    if (!(dotd(crossd(sub(v1, v0), sub(v2, v0)), sub(pf, v0)) > 0.0)) return 0.0;
+    const D3 in[3] = {sub(v0, pf), sub(v1, pf), sub(v2, pf)};
+    D3 poly[4];
+    int m = 0;
+    for (int i = 0; i < 3; ++i) {
+        const D3 a = in[i], b = in[(i + 1) % 3];
+        const double da = dotd(n, a), db = dotd(n, b);
+        if (da >= 0.0) poly[m++] = a;
+        if ((da >= 0.0) != (db >= 0.0)) {
+            const double t = da / (da - db);
+            poly[m++] = D3{a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t, a[2] + (b[2] - a[2]) * t};
+        }
+    }
+    double sum = 0.0;
+    for (int i = 0; i < m && m >= 3; ++i) {
+        D3 a = poly[i], b = poly[(i + 1) % m];
+        const double la = std::sqrt(dotd(a, a)), lb = std::sqrt(dotd(b, b));
+        for (int k = 0; k < 3; ++k) a[k] /= la, b[k] /= lb;
+        const D3 c = crossd(a, b);
+        const double len = std::sqrt(dotd(c, c));
+        if (len > 0.0) sum += std::atan2(len, dotd(a, b)) * dotd(n, c) / len;
+    }
+    return std::abs(0.5 * sum);
+}
+
+// A lamp as real files bring them: a sphere tessellated 48 × 24 (as the pbrt reader does, its seam's
+// vertices repeated), a box whose faces repeat their corners (a triangle soup), one face wound the
+// other way and one missing. E_unocc, summed over the outline of what is in view, equals the sum of
+// every triangle's own clipped formula (in double) — for receivers that see the lamps whole, cut by
+// their horizon, grazing and inside the open box.
+TEST(DirectLight, OutlineSumEqualsTheTrianglesSum) {
+    Scene s;
+    s.name = "lamps";
+    Material light;
+    light.name = "light";
+    light.albedo = Texture::constant(Vec3f(0.f));
+    light.emission = Texture::constant(Vec3f(3.f, 2.f, 1.f));
+    s.add_material(light);
+    TriangleMesh sphere;
+    sphere.name = "sphere", sphere.material = 0;
+    const int nu = 48, nv = 24;
+    const float r = 0.2f;
+    const Vec3f c(0.3f, 1.8f, -0.2f);
+    for (int j = 0; j <= nv; ++j)
+        for (int i = 0; i <= nu; ++i) {
+            const float th = k_pi * float(j) / float(nv), ph = 2.f * k_pi * float(i) / float(nu);
+            sphere.positions.push_back(c + Vec3f(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th)));
+        }
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const uint32_t a = uint32_t(j * (nu + 1) + i), b = a + 1, cc = a + uint32_t(nu + 1), e = cc + 1;
+            if (j > 0) sphere.indices.insert(sphere.indices.end(), {a, cc, b});
+            if (j < nv - 1) sphere.indices.insert(sphere.indices.end(), {b, cc, e});
+        }
+    TriangleMesh box;
+    box.name = "box", box.material = 0;
+    const Vec3f lo(-0.6f, 1.2f, 0.2f), hi(-0.2f, 1.5f, 0.5f);
+    auto corner = [&](int x, int y, int z) { return Vec3f(x ? hi.x : lo.x, y ? hi.y : lo.y, z ? hi.z : lo.z); };
+    add_quad_facing(box, corner(0, 0, 0), corner(1, 0, 0), corner(1, 0, 1), corner(0, 0, 1), {0, -1, 0});
+    add_quad_facing(box, corner(0, 0, 0), corner(0, 1, 0), corner(0, 1, 1), corner(0, 0, 1), {-1, 0, 0});
+    add_quad_facing(box, corner(1, 0, 0), corner(1, 1, 0), corner(1, 1, 1), corner(1, 0, 1), {1, 0, 0});
+    add_quad_facing(box, corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1), {0, 0, 1});
+    add_quad_facing(box, corner(0, 1, 0), corner(1, 1, 0), corner(1, 1, 1), corner(0, 1, 1), {0, -1, 0});   // wound inwards
+    s.meshes = {sphere, box};
+    const EmbreeAccel accel(s);
+    const RatioDirectLight lamps(accel, 0);
+    Pcg32 rng(7);
+    int cut = 0;
+    for (int k = 0; k < 400; ++k) {
+        const Vec3f p(rng.next_float() * 3.f - 1.5f, rng.next_float() * 3.f, rng.next_float() * 3.f - 1.5f);
+        const Vec3f n = normalize(Vec3f(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
+        double want = 0.0;
+        for (const TriangleMesh &m : s.meshes)
+            for (size_t t = 0; t < m.n_triangles(); ++t) {
+                if (!(m.area(t) > 0.f)) continue;
+                want += triangle_irradiance_double(p, n, m.vertex(t, 0), m.vertex(t, 1), m.vertex(t, 2));
+                if (dot(n, m.vertex(t, 0) - p) * dot(n, m.vertex(t, 1) - p) < 0.f) ++cut;
+            }
+        const Vec3f e = lamps.unoccluded(p, n);
+        EXPECT_NEAR(e.x, 3.0 * want, 1e-5 * 3.0 * want + 1e-9) << "receiver " << k;
+        EXPECT_NEAR(e.z, want, 1e-5 * want + 1e-9) << "receiver " << k;
+    }
+    EXPECT_GT(cut, 100) << "receivers whose horizon cuts a lamp";
 }
 
 // Unshadowed: the ratio is 1, so any sample count gives the analytic value exactly.

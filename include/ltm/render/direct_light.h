@@ -3,7 +3,8 @@
 // Stochastic Shadows"):
 //     E_direct ≈ Σ_l E_unocc,l · (Σ_s V_s·w_s) / (Σ_s w_s),   w_s = cosθ_x·cosθ_l / (d²·p_A)
 // per light l (an emissive mesh), where E_unocc,l is exact (Lambert's polygon formula over its
-// triangles, clipped to the receiver's hemisphere) and the ratio uses the same samples on l with
+// triangles, clipped to the receiver's hemisphere; the terms of every front-facing triangle share
+// one sign, so the edges that two such triangles share cancel and a mesh in view costs its outline) and the ratio uses the same samples on l with
 // and without their shadow rays. The n samples are shared among the lights in proportion to
 // E_unocc,l (at least one each), so a light in another room — unoccluded analytically, occluded
 // in fact — costs one shadow ray and adds no noise to the lights that are seen. Unshadowed points are exact at any sample count and penumbrae keep only the noise of the
@@ -43,8 +44,17 @@ private:
         std::vector<Vec3f> normal;    // unit, emitting side, one per triangle
         std::vector<double> cdf;      // by area, last = 1
         Vec3f radiance;
+        // For unoccluded_factor's sum over a region's outline (index_edges):
+        std::vector<Vec3f> plane;     // (v1 − v0) × (v2 − v0) per triangle, as triangle_irradiance's test
+        std::vector<int32_t> twin;    // per side k of triangle t (v_k → v_k+1): the triangle traversing it the other way, or −1
+        Vec3f centre{0.f};            // bounding sphere of the vertices
+        float radius = 0.f;
+        void index_edges();
     };
-    float unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const;   // Σ triangle_irradiance
+    /// Σ triangle_irradiance over l's triangles, summed over the outline of the part wholly in view
+    /// (shared edges cancel) plus the triangles the horizon cuts: O(triangles) dot products and
+    /// O(outline) arc terms a receiver.
+    float unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const;
     const EmbreeAccel &m_accel;
     std::vector<Light> m_lights;
     uint64_t m_seed;
