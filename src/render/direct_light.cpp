@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <tuple>
 
@@ -111,28 +112,83 @@ void RatioDirectLight::Light::index_edges() {
     // ends' coordinates (files repeat a shared vertex as often as they index it). An edge is paired
     // with the one traversing it the other way when exactly one does and no third side runs along it.
     using Key = std::array<float, 6>;
-    std::map<Key, std::vector<uint32_t>> sides;   // ordered key: the pairing does not depend on hashing
+    std::map<Key, std::vector<uint32_t>> by_edge;   // ordered key: the pairing does not depend on hashing
     auto key = [](Vec3f a, Vec3f b) { return Key{a.x, a.y, a.z, b.x, b.y, b.z}; };
     for (uint32_t s = 0; s < uint32_t(3 * T); ++s) {
         const uint32_t t = s / 3, k = s % 3;
         const Vec3f a = v[3 * t + k], b = v[3 * t + (k + 1) % 3];
         // Undirected: the smaller end first.
         const bool forward = std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
-        sides[forward ? key(a, b) : key(b, a)].push_back(s);
+        by_edge[forward ? key(a, b) : key(b, a)].push_back(s);
     }
     twin.assign(3 * T, -1);
-    for (const auto &[k, list] : sides) {
+    for (const auto &[k, list] : by_edge) {
         if (list.size() != 2) continue;
         const uint32_t s0 = list[0], s1 = list[1];
         const Vec3f a0 = v[3 * (s0 / 3) + s0 % 3], a1 = v[3 * (s1 / 3) + s1 % 3];
         if (a0 == a1) continue;   // the same direction: the two faces disagree on their winding, no cancellation
         twin[s0] = int32_t(s1 / 3), twin[s1] = int32_t(s0 / 3);
     }
-    Vec3f lo = v[0], hi = v[0];
-    for (const Vec3f &x : v) lo = min(lo, x), hi = max(hi, x);
-    centre = (lo + hi) * 0.5f;
-    radius = 0.f;
-    for (const Vec3f &x : v) radius = std::max(radius, length(x - centre));
+    // The triangles' tree (header): leaves of ≤ 8, split at the median of the centroids' longest
+    // extent (ties by index), each node with its bounding sphere and normal cone.
+    order.resize(T);
+    for (uint32_t t = 0; t < uint32_t(T); ++t) order[t] = t;
+    tree.clear();
+    sides.clear();
+    build_node(0, uint32_t(T));
+    // Each node's sides whose twin lies outside it (or has none): all a node wholly in view adds,
+    // its inner edges cancelling.
+    std::vector<uint32_t> slot(T);   // triangle -> its place in `order`
+    for (uint32_t i = 0; i < uint32_t(T); ++i) slot[order[i]] = i;
+    for (Node &node : tree) {
+        node.sides_lo = uint32_t(sides.size());
+        for (uint32_t i = node.lo; i < node.hi; ++i)
+            for (uint32_t k = 0; k < 3; ++k) {
+                const uint32_t sd = 3 * order[i] + k;
+                const int32_t tw = twin[sd];
+                if (tw < 0 || slot[size_t(tw)] < node.lo || slot[size_t(tw)] >= node.hi) sides.push_back(sd);
+            }
+        node.sides_hi = uint32_t(sides.size());
+    }
+}
+
+int32_t RatioDirectLight::Light::build_node(uint32_t lo, uint32_t hi) {
+    const int32_t id = int32_t(tree.size());
+    tree.push_back({});
+    Vec3f blo = v[3 * order[lo]], bhi = blo, clo(std::numeric_limits<float>::infinity()), chi(-std::numeric_limits<float>::infinity());
+    Vec3f nsum(0.f);
+    for (uint32_t i = lo; i < hi; ++i) {
+        const uint32_t t = order[i];
+        for (int k = 0; k < 3; ++k) blo = min(blo, v[3 * t + size_t(k)]), bhi = max(bhi, v[3 * t + size_t(k)]);
+        const Vec3f ct = (v[3 * t] + v[3 * t + 1] + v[3 * t + 2]) / 3.f;
+        clo = min(clo, ct), chi = max(chi, ct);
+        nsum += normalize(plane[t]);
+    }
+    Node node;
+    node.lo = lo, node.hi = hi;
+    node.centre = (blo + bhi) * 0.5f;
+    for (uint32_t i = lo; i < hi; ++i)
+        for (int k = 0; k < 3; ++k) node.radius = std::max(node.radius, length(v[3 * order[i] + size_t(k)] - node.centre));
+    const float len = length(nsum);
+    node.axis = len > 0.f ? nsum / len : Vec3f(0.f, 0.f, 1.f);
+    node.cos_cone = len > 0.f ? 1.f : -1.f;
+    for (uint32_t i = lo; i < hi && len > 0.f; ++i) node.cos_cone = std::min(node.cos_cone, dot(node.axis, normalize(plane[order[i]])));
+    // Rounding in the members' normals: a cone a hair wider than measured.
+    node.cos_cone = std::max(-1.f, node.cos_cone - 1e-5f);
+    node.sin_cone = std::sqrt(std::max(0.f, 1.f - node.cos_cone * node.cos_cone));
+    if (hi - lo > 8) {
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (chi[a] - clo[a] > chi[axis] - clo[axis]) axis = a;
+        const uint32_t mid = lo + (hi - lo) / 2;
+        auto key = [&](uint32_t t) { return v[3 * t][axis] + v[3 * t + 1][axis] + v[3 * t + 2][axis]; };
+        std::nth_element(order.begin() + lo, order.begin() + mid, order.begin() + hi,
+                         [&](uint32_t x, uint32_t y) { return key(x) != key(y) ? key(x) < key(y) : x < y; });
+        node.child[0] = build_node(lo, mid);
+        node.child[1] = build_node(mid, hi);
+    }
+    tree[size_t(id)] = node;
+    return id;
 }
 
 float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const {
@@ -140,31 +196,62 @@ float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) cons
     // front-facing triangles that lie wholly above the horizon appears in both with opposite
     // directions, and its terms cancel exactly: only the edges around that region are summed (a
     // tessellated sphere: its outline, not its ~1 000 faces in view). Triangles that the horizon
-    // cuts keep their clipped sums whole.
+    // cuts keep their clipped sums whole. The tree skips subtrees wholly behind their faces and takes
+    // subtrees wholly in view by their boundary sides.
     const size_t T = l.plane.size();
-    thread_local std::vector<uint8_t> whole;   // front-facing and wholly above the horizon
-    whole.assign(T, 0);
-    // Every vertex above the horizon when the light's bounding sphere is (with room for rounding).
-    const bool all_above = dot(n, l.centre - p) > l.radius * 1.0001f + 1e-6f * length(l.centre - p);
+    struct Scratch {
+        std::vector<uint8_t> whole;          // per triangle: front-facing and wholly above the horizon
+        std::vector<int32_t> stack, nodes;   // the walk; the nodes wholly in view
+        std::vector<uint32_t> loose;         // triangles in view found one by one (in leaves)
+    };
+    thread_local Scratch sc;
+    sc.whole.assign(T, 0);
+    sc.stack.assign(1, 0), sc.nodes.clear(), sc.loose.clear();
     const D3 nd{n.x, n.y, n.z};
     double sum = 0.0;
-    for (size_t t = 0; t < T; ++t) {
-        const Vec3f v0 = l.v[3 * t];
-        if (!(dot(l.plane[t], p - v0) > 0.f)) continue;   // behind the emitter or edge-on: 0
-        // Wholly above as triangle_sum clips (in double): its sum is then its three edges' terms.
-        if (all_above || (dot3(nd, diff(v0, p)) >= 0.0 && dot3(nd, diff(l.v[3 * t + 1], p)) >= 0.0 && dot3(nd, diff(l.v[3 * t + 2], p)) >= 0.0))
-            whole[t] = 1;
-        else
-            sum += triangle_sum(p, n, v0, l.v[3 * t + 1], l.v[3 * t + 2]);
-    }
-    for (size_t t = 0; t < T; ++t) {
-        if (!whole[t]) continue;
-        for (int k = 0; k < 3; ++k) {
-            const int32_t tw = l.twin[3 * t + size_t(k)];
-            if (tw >= 0 && whole[size_t(tw)]) continue;
-            sum += 0.5 * edge_term(diff(l.v[3 * t + size_t(k)], p), diff(l.v[3 * t + size_t(k + 1) % 3], p), nd);
+    while (!sc.stack.empty()) {
+        const Light::Node &node = l.tree[size_t(sc.stack.back())];
+        const int32_t id = sc.stack.back();
+        sc.stack.pop_back();
+        // n̂_t·(p − v) = n̂_t·d + n̂_t·(c − v), |n̂_t·(c − v)| ≤ R, and n̂_t·d lies within the cone's
+        // angle α of the axis's β: between |d| cos(min(π, β + α)) and |d| cos(max(0, β − α)).
+        const Vec3f d = p - node.centre;
+        const float dist = length(d), r = node.radius * 1.0001f + 1e-6f * dist;
+        const float cb = dist > 0.f ? std::clamp(dot(node.axis, d) / dist, -1.f, 1.f) : 1.f, sb = std::sqrt(std::max(0.f, 1.f - cb * cb));
+        const float ca = node.cos_cone, sa = node.sin_cone;
+        const float most = cb >= ca ? dist : dist * (cb * ca + sb * sa);            // β ≤ α: cos 0
+        const float least = ca + cb <= 0.f ? -dist : dist * (cb * ca - sb * sa);   // β + α ≥ π: cos π
+        if (most + r <= 0.f) continue;   // every face turned away from p: adds 0
+        if (least - r > 0.f && dot(n, node.centre - p) > r) {   // every face towards p and above its horizon
+            for (uint32_t i = node.lo; i < node.hi; ++i) sc.whole[l.order[i]] = 1;
+            sc.nodes.push_back(id);
+            continue;
+        }
+        if (node.child[0] >= 0) {
+            sc.stack.push_back(node.child[1]), sc.stack.push_back(node.child[0]);
+            continue;
+        }
+        for (uint32_t i = node.lo; i < node.hi; ++i) {
+            const uint32_t t = l.order[i];
+            const Vec3f v0 = l.v[3 * t];
+            if (!(dot(l.plane[t], p - v0) > 0.f)) continue;   // behind the emitter or edge-on: 0
+            // Wholly above as triangle_sum clips (in double): its sum is then its three edges' terms.
+            if (dot3(nd, diff(v0, p)) >= 0.0 && dot3(nd, diff(l.v[3 * t + 1], p)) >= 0.0 && dot3(nd, diff(l.v[3 * t + 2], p)) >= 0.0)
+                sc.whole[t] = 1, sc.loose.push_back(t);
+            else
+                sum += triangle_sum(p, n, v0, l.v[3 * t + 1], l.v[3 * t + 2]);
         }
     }
+    const auto side_term = [&](uint32_t sd) {
+        const int32_t tw = l.twin[sd];
+        if (tw >= 0 && sc.whole[size_t(tw)]) return 0.0;   // cancels against its twin's
+        const size_t t = sd / 3, k = sd % 3;
+        return 0.5 * edge_term(diff(l.v[3 * t + k], p), diff(l.v[3 * t + (k + 1) % 3], p), nd);
+    };
+    for (const int32_t id : sc.nodes)
+        for (uint32_t i = l.tree[size_t(id)].sides_lo; i < l.tree[size_t(id)].sides_hi; ++i) sum += side_term(l.sides[i]);
+    for (const uint32_t t : sc.loose)
+        for (uint32_t k = 0; k < 3; ++k) sum += side_term(3 * t + k);
     return float(std::abs(sum));
 }
 

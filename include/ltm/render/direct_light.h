@@ -47,9 +47,22 @@ private:
         // For unoccluded_factor's sum over a region's outline (index_edges):
         std::vector<Vec3f> plane;     // (v1 − v0) × (v2 − v0) per triangle, as triangle_irradiance's test
         std::vector<int32_t> twin;    // per side k of triangle t (v_k → v_k+1): the triangle traversing it the other way, or −1
-        Vec3f centre{0.f};            // bounding sphere of the vertices
-        float radius = 0.f;
+        // A binary tree over the triangles (leaves of ≤ 8): a subtree wholly behind its faces is
+        // skipped, one wholly in view adds its boundary sides only.
+        struct Node {
+            Vec3f centre{0.f};
+            float radius = 0.f;                    // bounding sphere of its vertices
+            Vec3f axis{0.f, 0.f, 1.f};             // normal cone: its faces' unit normals within
+            float cos_cone = -1.f, sin_cone = 0.f;  //   the angle α (cos, sin) of the axis
+            uint32_t lo = 0, hi = 0;               // its triangles: order[lo, hi)
+            int32_t child[2] = {-1, -1};
+            uint32_t sides_lo = 0, sides_hi = 0;   // sides[lo, hi): its sides whose twin lies outside it (3t + k)
+        };
+        std::vector<Node> tree;       // preorder, [0] the root
+        std::vector<uint32_t> order;  // the triangles in tree order
+        std::vector<uint32_t> sides;
         void index_edges();
+        int32_t build_node(uint32_t lo, uint32_t hi);   // the subtree over order[lo, hi); its index
     };
     /// Σ triangle_irradiance over l's triangles, summed over the outline of the part wholly in view
     /// (shared edges cancel) plus the triangles the horizon cuts: O(triangles) dot products and
