@@ -213,21 +213,24 @@ float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) cons
         const Light::Node &node = l.tree[size_t(sc.stack.back())];
         const int32_t id = sc.stack.back();
         sc.stack.pop_back();
-        // n̂_t·(p − v) = n̂_t·d + n̂_t·(c − v), |n̂_t·(c − v)| ≤ R, and n̂_t·d lies within the cone's
-        // angle α of the axis's β: between |d| cos(min(π, β + α)) and |d| cos(max(0, β − α)).
-        const Vec3f d = p - node.centre;
-        const float dist = length(d), r = node.radius * 1.0001f + 1e-6f * dist;
-        const float cb = dist > 0.f ? std::clamp(dot(node.axis, d) / dist, -1.f, 1.f) : 1.f, sb = std::sqrt(std::max(0.f, 1.f - cb * cb));
-        const float ca = node.cos_cone, sa = node.sin_cone;
-        const float most = cb >= ca ? dist : dist * (cb * ca + sb * sa);            // β ≤ α: cos 0
-        const float least = ca + cb <= 0.f ? -dist : dist * (cb * ca - sb * sa);   // β + α ≥ π: cos π
-        if (most + r <= 0.f) continue;   // every face turned away from p: adds 0
-        if (least - r > 0.f && dot(n, node.centre - p) > r) {   // every face towards p and above its horizon
-            for (uint32_t i = node.lo; i < node.hi; ++i) sc.whole[l.order[i]] = 1;
-            sc.nodes.push_back(id);
-            continue;
+        const bool leaf = node.child[0] < 0;
+        if (!leaf || node.hi - node.lo > 2) {   // (a quad's two triangles are tested faster one by one)
+            // n̂_t·(p − v) = n̂_t·d + n̂_t·(c − v), |n̂_t·(c − v)| ≤ R, and n̂_t·d lies within the cone's
+            // angle α of the axis's β: between |d| cos(min(π, β + α)) and |d| cos(max(0, β − α)).
+            const Vec3f d = p - node.centre;
+            const float dist = length(d), r = node.radius * 1.0001f + 1e-6f * dist;
+            const float cb = dist > 0.f ? std::clamp(dot(node.axis, d) / dist, -1.f, 1.f) : 1.f, sb = std::sqrt(std::max(0.f, 1.f - cb * cb));
+            const float ca = node.cos_cone, sa = node.sin_cone;
+            const float most = cb >= ca ? dist : dist * (cb * ca + sb * sa);            // β ≤ α: cos 0
+            const float least = ca + cb <= 0.f ? -dist : dist * (cb * ca - sb * sa);   // β + α ≥ π: cos π
+            if (most + r <= 0.f) continue;   // every face turned away from p: adds 0
+            if (least - r > 0.f && dot(n, node.centre - p) > r) {   // every face towards p and above its horizon
+                for (uint32_t i = node.lo; i < node.hi; ++i) sc.whole[l.order[i]] = 1;
+                sc.nodes.push_back(id);
+                continue;
+            }
         }
-        if (node.child[0] >= 0) {
+        if (!leaf) {
             sc.stack.push_back(node.child[1]), sc.stack.push_back(node.child[0]);
             continue;
         }
@@ -265,7 +268,8 @@ Vec3f RatioDirectLight::irradiance(Vec3f p, Vec3f n, uint64_t key, int n_samples
     if (n_samples <= 0) LTM_THROW("direct light: samples per point must be > 0, got ", n_samples);
     // E_unocc per light, and the luminance that shares the samples out.
     const size_t n_lights = m_lights.size();
-    std::vector<float> g(n_lights);
+    thread_local std::vector<float> g;
+    g.assign(n_lights, 0.f);
     double total = 0.0;
     for (size_t i = 0; i < n_lights; ++i) {
         g[i] = unoccluded_factor(m_lights[i], p, n);

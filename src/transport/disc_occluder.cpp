@@ -64,11 +64,11 @@ DiscOccluder::DiscOccluder(const std::vector<Vec3f> &points, const std::vector<V
     }
 }
 
-bool DiscOccluder::hits(uint32_t k, Vec3f a, Vec3f d, float t0, float t1, bool either_side) const {
+bool DiscOccluder::hits(uint32_t k, Vec3f a, Vec3f d, float graze, float t0, float t1, bool either_side) const {
     const Vec3f n = m_normal[k];
     const float denom = dot(n, d);
     // From behind (unless either side counts), or along the disc.
-    if (either_side ? !(std::abs(denom) > k_grazing * length(d)) : !(denom < -k_grazing * length(d))) return false;
+    if (either_side ? !(std::abs(denom) > graze) : !(denom < -graze)) return false;
     const float t = dot(n, m_center[k] - a) / denom;
     if (!(t > t0 && t < t1)) return false;
     const Vec3f q = a + d * t - m_center[k];
@@ -129,10 +129,11 @@ bool DiscOccluder::walk(Vec3f a, Vec3f d, float t0, float t1, bool either_side) 
             step[ax] = 0, t_delta[ax] = 0.f, t_next[ax] = std::numeric_limits<float>::infinity();
         }
     }
+    const float graze = k_grazing * length(d);   // once a walk, not once a disc
     for (;;) {
         const size_t i = size_t(cell_index(c));
         for (uint32_t s = m_cell_start[i]; s < m_cell_start[i + 1]; ++s)
-            if (hits(m_cell_disc[s], a, d, t0, t1, either_side)) return true;
+            if (hits(m_cell_disc[s], a, d, graze, t0, t1, either_side)) return true;
         int ax = 0;
         if (t_next[1] < t_next[ax]) ax = 1;
         if (t_next[2] < t_next[ax]) ax = 2;

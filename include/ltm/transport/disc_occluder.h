@@ -51,8 +51,9 @@ private:
     /// Does the segment a + t·d, t ∈ (t0, t1), meet a disc (from the front only, or from either side)?
     bool walk(Vec3f a, Vec3f d, float t0, float t1, bool either_side) const;
     int64_t cell_index(const int c[3]) const { return (int64_t(c[2]) * m_dim[1] + c[1]) * m_dim[0] + c[0]; }
-    /// Does disc k block the segment a + t·d, t ∈ (t0, t1)? (From its front, or either side.)
-    bool hits(uint32_t k, Vec3f a, Vec3f d, float t0, float t1, bool either_side = false) const;
+    /// Does disc k block the segment a + t·d, t ∈ (t0, t1)? (From its front, or either side; graze:
+    /// k_grazing·|d|, below which |n·d| runs along the disc.)
+    bool hits(uint32_t k, Vec3f a, Vec3f d, float graze, float t0, float t1, bool either_side) const;
     float m_r = 0.f;
     Vec3f m_origin{0.f};   ///< the grid's lowest corner
     int m_dim[3] = {0, 0, 0};
