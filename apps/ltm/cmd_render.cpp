@@ -73,7 +73,7 @@ void declare(CLI::App &sub, RenderArgs &a) {
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "ratio", "mis"}));
     sub.add_option("--gi-stride", a.gi_stride,
-                   "Decode E+ on every N-th pixel in x and y and interpolate on matching surfaces (neural; 1: every pixel)")
+                   "Decode E+ on every N-th pixel in x and y and interpolate on matching surfaces (neural; 1 with --gi-levels 1: every pixel)")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
     add_gi_refine_options(sub, a.gi_levels, a.gi_contrast);

@@ -140,6 +140,9 @@ void RatioDirectLight::Light::index_edges() {
     // its inner edges cancelling.
     std::vector<uint32_t> slot(T);   // triangle -> its place in `order`
     for (uint32_t i = 0; i < uint32_t(T); ++i) slot[order[i]] = i;
+    // A node whose outline is more than twice its triangles (a soup, no shared edges) keeps none and
+    // is never taken whole (its triangles are tested one by one): the stored sides stay O(triangles)
+    // per level for a connected mesh, not 3 per triangle per level.
     for (Node &node : tree) {
         node.sides_lo = uint32_t(sides.size());
         for (uint32_t i = node.lo; i < node.hi; ++i)
@@ -148,6 +151,8 @@ void RatioDirectLight::Light::index_edges() {
                 const int32_t tw = twin[sd];
                 if (tw < 0 || slot[size_t(tw)] < node.lo || slot[size_t(tw)] >= node.hi) sides.push_back(sd);
             }
+        node.whole_ok = sides.size() - node.sides_lo <= 2 * size_t(node.hi - node.lo);
+        if (!node.whole_ok) sides.resize(node.sides_lo);
         node.sides_hi = uint32_t(sides.size());
     }
 }
@@ -205,7 +210,7 @@ float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) cons
         std::vector<uint32_t> loose;         // triangles in view found one by one (in leaves)
     };
     thread_local Scratch sc;
-    sc.whole.assign(T, 0);
+    if (sc.whole.size() < T) sc.whole.resize(T, 0);   // all 0 between calls: each call clears what it set
     sc.stack.assign(1, 0), sc.nodes.clear(), sc.loose.clear();
     const D3 nd{n.x, n.y, n.z};
     double sum = 0.0;
@@ -219,12 +224,15 @@ float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) cons
             // angle α of the axis's β: between |d| cos(min(π, β + α)) and |d| cos(max(0, β − α)).
             const Vec3f d = p - node.centre;
             const float dist = length(d), r = node.radius * 1.0001f + 1e-6f * dist;
-            const float cb = dist > 0.f ? std::clamp(dot(node.axis, d) / dist, -1.f, 1.f) : 1.f, sb = std::sqrt(std::max(0.f, 1.f - cb * cb));
+            // sin β from the cross product: √(1 − cos²β) loses ~1e-4 near β = 0 or π, more than the margin.
+            const float cb = dist > 0.f ? std::clamp(dot(node.axis, d) / dist, -1.f, 1.f) : 1.f,
+                        sb = dist > 0.f ? std::min(1.f, length(cross(node.axis, d)) / dist) : 0.f;
             const float ca = node.cos_cone, sa = node.sin_cone;
             const float most = cb >= ca ? dist : dist * (cb * ca + sb * sa);            // β ≤ α: cos 0
             const float least = ca + cb <= 0.f ? -dist : dist * (cb * ca - sb * sa);   // β + α ≥ π: cos π
             if (most + r <= 0.f) continue;   // every face turned away from p: adds 0
-            if (least - r > 0.f && dot(n, node.centre - p) > r) {   // every face towards p and above its horizon
+            // Every face towards p and above its horizon (and the node's outline kept: index_edges).
+            if (node.whole_ok && least - r > 0.f && dot(n, node.centre - p) > r) {
                 for (uint32_t i = node.lo; i < node.hi; ++i) sc.whole[l.order[i]] = 1;
                 sc.nodes.push_back(id);
                 continue;
@@ -255,6 +263,10 @@ float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) cons
         for (uint32_t i = l.tree[size_t(id)].sides_lo; i < l.tree[size_t(id)].sides_hi; ++i) sum += side_term(l.sides[i]);
     for (const uint32_t t : sc.loose)
         for (uint32_t k = 0; k < 3; ++k) sum += side_term(3 * t + k);
+    // Clear only what this call set: O(what it visited), not O(triangles) a receiver.
+    for (const int32_t id : sc.nodes)
+        for (uint32_t i = l.tree[size_t(id)].lo; i < l.tree[size_t(id)].hi; ++i) sc.whole[l.order[i]] = 0;
+    for (const uint32_t t : sc.loose) sc.whole[t] = 0;
     return float(std::abs(sum));
 }
 

@@ -43,7 +43,7 @@ struct Blend {
     Vec3f sum{0.f};
     float weight = 0.f;
     Vec3f lo{0.f}, hi{0.f};
-    bool rejected = false;   ///< a corner that weighs > 0 failed the tests (or shows no surface)
+    bool rejected = false;   ///< a corner that weighs > 0 failed the tests, shows no surface or lies past the image
 };
 template <class Value>
 Blend blend(const PixelIndex &ix, size_t i, int s, const GiUpsampleOptions &opt, Value value) {
@@ -56,8 +56,11 @@ Blend blend(const PixelIndex &ix, size_t i, int s, const GiUpsampleOptions &opt,
     bool any = false;
     for (const int cy : {y0, y0 + s})
         for (const int cx : {x0, x0 + s}) {
-            if (cx >= gb.width || cy >= gb.height) continue;
             const float w = (1.f - float(std::abs(x - cx)) / float(s)) * (1.f - float(std::abs(y - cy)) / float(s));
+            if (cx >= gb.width || cy >= gb.height) {   // past the image: nothing to agree with
+                if (w > 0.f) b.rejected = true;
+                continue;
+            }
             const int64_t c = ix.hit_of_pixel[size_t(cy) * size_t(gb.width) + size_t(cx)];
             const Vec3f *v = c < 0 ? nullptr : value(size_t(c));
             if (!v || dot(n, gb.normal[size_t(c)]) < opt.min_normal_cos || std::fabs(dot(n, gb.position[size_t(c)] - p)) > tolerance) {

@@ -210,6 +210,23 @@ TEST(GiUpsample, CoarseToFineDecodesBesideAnEdge) {
     }
 }
 
+// 36 × 36: the last lattice columns and rows of the coarse lattices (32) stop short of the image's
+// edge, and the light changes past them. A corner past the image has nothing to agree with, so the
+// pixels beside the edge are decoded: the image is the one-level lattice's exactly.
+TEST(GiUpsample, CoarseToFineDecodesAlongTheImageEdge) {
+    const GBuffer gb = synthetic(36, 36, [](int x, int y) {
+        return std::pair{Vec3f(0.01f * float(x), 0.01f * float(y), 0.f), Vec3f(0.f, 0.f, 1.f)};
+    });
+    auto edge = [](int x, int y) { return x >= 33 || y >= 33 ? Vec3f(5.f) : Vec3f(1.f); };
+    for (int stride : {1, 2}) {
+        int64_t asked = 0;
+        const GiUpsampled coarse = upsample_gi(gb, camera_of(gb), levels_of(stride, 3, 0.05f), field_decoder(gb, edge, asked));
+        const GiUpsampled one = upsample_gi(gb, camera_of(gb), levels_of(stride, 1, 0.05f), field_decoder(gb, edge, asked));
+        EXPECT_EQ(coarse.values, one.values) << "stride " << stride;
+        EXPECT_LT(coarse.decoded, one.decoded) << "stride " << stride;
+    }
+}
+
 TEST(GiUpsample, CoarseToFineRefusesBadOptionsAndDecoders) {
     const GBuffer gb = synthetic(8, 8, [](int x, int y) {
         return std::pair{Vec3f(0.05f * float(x), 0.05f * float(y), 0.f), Vec3f(0.f, 0.f, 1.f)};

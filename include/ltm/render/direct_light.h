@@ -57,6 +57,7 @@ private:
             uint32_t lo = 0, hi = 0;               // its triangles: order[lo, hi)
             int32_t child[2] = {-1, -1};
             uint32_t sides_lo = 0, sides_hi = 0;   // sides[lo, hi): its sides whose twin lies outside it (3t + k)
+            bool whole_ok = false;                 // its sides are kept, so it may be taken whole
         };
         std::vector<Node> tree;       // preorder, [0] the root
         std::vector<uint32_t> order;  // the triangles in tree order
@@ -65,8 +66,9 @@ private:
         int32_t build_node(uint32_t lo, uint32_t hi);   // the subtree over order[lo, hi); its index
     };
     /// Σ triangle_irradiance over l's triangles, summed over the outline of the part wholly in view
-    /// (shared edges cancel) plus the triangles the horizon cuts: O(triangles) dot products and
-    /// O(outline) arc terms a receiver.
+    /// (shared edges cancel) plus the triangles the horizon cuts; l's tree skips the subtrees turned
+    /// away and takes those wholly in view by their outlines: about O(outline + tree nodes visited)
+    /// arc terms and bounds a receiver.
     float unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const;
     const EmbreeAccel &m_accel;
     std::vector<Light> m_lights;
