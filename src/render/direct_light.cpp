@@ -92,7 +92,8 @@ RatioDirectLight::RatioDirectLight(const EmbreeAccel &accel, uint64_t seed) : m_
         for (size_t t = 0; t < mesh.n_triangles(); ++t) {
             if (!(mesh.area(t) > 0.f)) continue;
             for (int k = 0; k < 3; ++k) l.v.push_back(mesh.vertex(t, k));
-            l.normal.push_back(normalize(mesh.cross_normal(t)));
+            l.plane.push_back(mesh.cross_normal(t));
+            l.normal.push_back(normalize(l.plane.back()));
             total += double(mesh.area(t));
             l.cdf.push_back(total);
         }
@@ -106,8 +107,6 @@ RatioDirectLight::RatioDirectLight(const EmbreeAccel &accel, uint64_t seed) : m_
 
 void RatioDirectLight::Light::index_edges() {
     const size_t T = v.size() / 3;
-    plane.resize(T);
-    for (size_t t = 0; t < T; ++t) plane[t] = cross(v[3 * t + 1] - v[3 * t], v[3 * t + 2] - v[3 * t]);
     // Directed edge (a → b) of triangle t, side k: v[3t + k] → v[3t + (k + 1) % 3], keyed by its
     // ends' coordinates (files repeat a shared vertex as often as they index it). An edge is paired
     // with the one traversing it the other way when exactly one does and no third side runs along it.
@@ -167,7 +166,7 @@ int32_t RatioDirectLight::Light::build_node(uint32_t lo, uint32_t hi) {
         for (int k = 0; k < 3; ++k) blo = min(blo, v[3 * t + size_t(k)]), bhi = max(bhi, v[3 * t + size_t(k)]);
         const Vec3f ct = (v[3 * t] + v[3 * t + 1] + v[3 * t + 2]) / 3.f;
         clo = min(clo, ct), chi = max(chi, ct);
-        nsum += normalize(plane[t]);
+        nsum += normal[t];
     }
     Node node;
     node.lo = lo, node.hi = hi;
@@ -177,7 +176,7 @@ int32_t RatioDirectLight::Light::build_node(uint32_t lo, uint32_t hi) {
     const float len = length(nsum);
     node.axis = len > 0.f ? nsum / len : Vec3f(0.f, 0.f, 1.f);
     node.cos_cone = len > 0.f ? 1.f : -1.f;
-    for (uint32_t i = lo; i < hi && len > 0.f; ++i) node.cos_cone = std::min(node.cos_cone, dot(node.axis, normalize(plane[order[i]])));
+    for (uint32_t i = lo; i < hi && len > 0.f; ++i) node.cos_cone = std::min(node.cos_cone, dot(node.axis, normal[order[i]]));
     // Rounding in the members' normals: a cone a hair wider than measured.
     node.cos_cone = std::max(-1.f, node.cos_cone - 1e-5f);
     node.sin_cone = std::sqrt(std::max(0.f, 1.f - node.cos_cone * node.cos_cone));

@@ -123,9 +123,14 @@ GiUpsampled upsample_gi(const GBuffer &gb, const Camera &camera, const GiUpsampl
         out.decoded += int64_t(hits.size());
         return v;
     };
-    std::vector<Vec3f> value(gb.n_hits(), Vec3f(0.f));
-    if (opt.levels > 1) {
+    // The stride-s lattice's values (lattice_hits order): decoded at once with one level, else
+    // coarse to fine.
+    std::vector<Vec3f> finest;
+    if (opt.levels == 1) {
+        finest = decoded(lattice_hits(gb, opt.stride));
+    } else {
         const PixelIndex ix(gb, camera);
+        std::vector<Vec3f> value(gb.n_hits(), Vec3f(0.f));
         std::vector<uint8_t> known(gb.n_hits(), 0);
         int s = opt.stride << (opt.levels - 1);
         {
@@ -138,13 +143,10 @@ GiUpsampled upsample_gi(const GBuffer &gb, const Camera &camera, const GiUpsampl
             // The lattice of stride s/2's new pixels, blended from the stride-s lattice (all known)
             // where its corners agree; the blends are written after every pixel of this level has
             // read its corners, which lie on the stride-s lattice only.
-            const int f = s / 2;
             std::vector<size_t> refine;
             std::vector<std::pair<size_t, Vec3f>> blended;
-            for (size_t i = 0; i < gb.n_hits(); ++i) {
-                const int64_t px = gb.hit_pixels[i];
-                const int x = int(px % gb.width), y = int(px / gb.width);
-                if (x % f != 0 || y % f != 0 || known[i]) continue;
+            for (size_t i : lattice_hits(gb, s / 2)) {
+                if (known[i]) continue;
                 const Blend b = blend(ix, i, s, opt, at);
                 const Vec3f mean = b.weight > 0.f ? b.sum / b.weight : Vec3f(0.f);
                 const Vec3f range = b.hi - b.lo;
@@ -157,16 +159,9 @@ GiUpsampled upsample_gi(const GBuffer &gb, const Camera &camera, const GiUpsampl
             for (size_t k = 0; k < refine.size(); ++k) value[refine[k]] = v[k], known[refine[k]] = 1;
             for (const auto &[i, m] : blended) value[i] = m, known[i] = 1;
         }
-        std::vector<Vec3f> finest;
         for (size_t i : lattice_hits(gb, opt.stride)) finest.push_back(value[i]);
-        GiInterpolation r = interpolate_from_lattice(gb, camera, finest, opt);
-        const std::vector<Vec3f> own = decoded(r.needs_decode);
-        for (size_t k = 0; k < own.size(); ++k) r.values[r.needs_decode[k]] = own[k];
-        out.values = std::move(r.values);
-        return out;
     }
-    const std::vector<size_t> lattice = lattice_hits(gb, opt.stride);
-    GiInterpolation r = interpolate_from_lattice(gb, camera, decoded(lattice), opt);
+    GiInterpolation r = interpolate_from_lattice(gb, camera, finest, opt);
     const std::vector<Vec3f> own = decoded(r.needs_decode);
     for (size_t k = 0; k < own.size(); ++k) r.values[r.needs_decode[k]] = own[k];
     out.values = std::move(r.values);

@@ -41,11 +41,11 @@ public:
 private:
     struct Light {   // one emissive mesh of constant radiance
         std::vector<Vec3f> v;         // 3 vertices per triangle
-        std::vector<Vec3f> normal;    // unit, emitting side, one per triangle
+        std::vector<Vec3f> plane;     // (v1 − v0) × (v2 − v0) per triangle, as triangle_irradiance's facing test
+        std::vector<Vec3f> normal;    // plane normalised: unit, emitting side
         std::vector<double> cdf;      // by area, last = 1
         Vec3f radiance;
         // For unoccluded_factor's sum over a region's outline (index_edges):
-        std::vector<Vec3f> plane;     // (v1 − v0) × (v2 − v0) per triangle, as triangle_irradiance's test
         std::vector<int32_t> twin;    // per side k of triangle t (v_k → v_k+1): the triangle traversing it the other way, or −1
         // A binary tree over the triangles (leaves of ≤ 8): a subtree wholly behind its faces is
         // skipped, one wholly in view adds its boundary sides only.
