@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "ltm/core/file_util.h"
 #include "ltm/core/image.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
@@ -73,8 +74,7 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         LTM_THROW("--scene-points, --prior-theta and --prior-rays are only used with --method neural");
     const std::filesystem::path out(a.output);
     if (out.extension() != ".glb") LTM_THROW(a.output, ": the output must be a .glb file");
-    if (out.has_parent_path() && !std::filesystem::is_directory(out.parent_path()))
-        LTM_THROW(a.output, ": cannot write: directory '", out.parent_path().string(), "' does not exist");
+    check_output_directory(a.output);
     const Scene scene = load_scene(a.scene);
     bool lit = false;
     for (const Material &m : scene.materials) lit |= m.is_emissive();

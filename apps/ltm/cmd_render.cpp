@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
 #include "ltm/core/tonemap.h"
@@ -88,6 +89,7 @@ void declare(CLI::App &sub, RenderArgs &a) {
 void run(const RenderArgs &a, const CommonOptions &common) {
     if (!(a.exposure > 0.f)) LTM_THROW("--exposure ", a.exposure, ": must be > 0");
     const std::string prefix = strip_image_extension(a.output);
+    check_output_directory(prefix + ".exr");   // before the render, not after it
     if (a.method == "neural") {
     #if LTM_WITH_TORCH
         if (a.model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");

@@ -66,9 +66,7 @@ MappedFile::~MappedFile() {
 
 AtomicFile::AtomicFile(std::string path, bool binary) : m_path(std::move(path)) {
     m_tmp = m_path + ".tmp." + std::to_string(::getpid());
-    const std::string dir = parent_dir(m_path);
-    if (!dir.empty() && !fs::is_directory(dir))
-        LTM_THROW(m_path, ": cannot write: directory '", dir, "' does not exist");
+    check_output_directory(m_path);
     m_out.open(m_tmp, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);
     if (!m_out) LTM_THROW(m_path, ": cannot write: ", std::strerror(errno));
 }
@@ -89,6 +87,11 @@ void AtomicFile::commit() {
     fs::rename(m_tmp, m_path, ec);
     if (ec) LTM_THROW(m_path, ": cannot rename into place: ", ec.message());
     m_committed = true;
+}
+
+void check_output_directory(const std::string &path) {
+    const std::string dir = parent_dir(path);
+    if (!dir.empty() && !fs::is_directory(dir)) LTM_THROW(path, ": cannot write: directory '", dir, "' does not exist");
 }
 
 void write_file_atomic(const std::string &path, const std::string &contents) {

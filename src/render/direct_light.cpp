@@ -17,7 +17,29 @@ namespace ltm {
 
 namespace {
 constexpr uint64_t k_ratio_domain = 5ull << 60;   // streams disjoint from the path tracer's
+// share_factor: the exact E_unocc shares the samples out within this many bounding radii of a
+// light; beyond, the small-source approximation (a disc seen from 3 radii: within ~5 %).
+constexpr float k_near_radii = 3.f;
+
+// Bounds on n̂_t·(p − v) over the triangles t of a node (centre c, radius R, normal cone of half-angle
+// α about its axis): n̂_t·(p − v) = n̂_t·d + n̂_t·(c − v) with d = p − c and |n̂_t·(c − v)| ≤ R, and n̂_t·d
+// lies between |d| cos(min(π, β + α)) and |d| cos(max(0, β − α)), β the angle of d to the axis.
+struct ConeBounds {
+    float most, least, r;   // the bounds on n̂_t·d, and R with a margin for rounding
+};
+template <class Node>
+ConeBounds cone_bounds(const Node &node, Vec3f p) {
+    const Vec3f d = p - node.centre;
+    const float dist = length(d), r = node.radius * 1.0001f + 1e-6f * dist;
+    // sin β from the cross product: √(1 − cos²β) loses ~1e-4 near β = 0 or π, more than the margin.
+    const float cb = dist > 0.f ? std::clamp(dot(node.axis, d) / dist, -1.f, 1.f) : 1.f,
+                sb = dist > 0.f ? std::min(1.f, length(cross(node.axis, d)) / dist) : 0.f;
+    const float ca = node.cos_cone, sa = node.sin_cone;
+    return {cb >= ca ? dist : dist * (cb * ca + sb * sa),            // β ≤ α: cos 0
+            ca + cb <= 0.f ? -dist : dist * (cb * ca - sb * sa),   // β + α ≥ π: cos π
+            r};
 }
+}  // namespace
 
 namespace {
 using D3 = std::array<double, 3>;
@@ -89,15 +111,21 @@ RatioDirectLight::RatioDirectLight(const EmbreeAccel &accel, uint64_t seed) : m_
         Light l;
         l.radiance = mat.emission.color_a;
         double total = 0.0;
+        D3 centroid{0.0, 0.0, 0.0};
         for (size_t t = 0; t < mesh.n_triangles(); ++t) {
             if (!(mesh.area(t) > 0.f)) continue;
             for (int k = 0; k < 3; ++k) l.v.push_back(mesh.vertex(t, k));
             l.plane.push_back(mesh.cross_normal(t));
             l.normal.push_back(normalize(l.plane.back()));
-            total += double(mesh.area(t));
+            const double a = double(mesh.area(t));
+            total += a;
             l.cdf.push_back(total);
+            const Vec3f c = (mesh.vertex(t, 0) + mesh.vertex(t, 1) + mesh.vertex(t, 2)) / 3.f;
+            for (int k = 0; k < 3; ++k) centroid[size_t(k)] += a * double(c[k]);
         }
         if (l.cdf.empty()) continue;
+        l.area = float(total);
+        l.centroid = Vec3f(float(centroid[0] / total), float(centroid[1] / total), float(centroid[2] / total));
         for (double &c : l.cdf) c /= total;
         l.cdf.back() = 1.0;
         l.index_edges();
@@ -219,19 +247,10 @@ float RatioDirectLight::unoccluded_factor(const Light &l, Vec3f p, Vec3f n) cons
         sc.stack.pop_back();
         const bool leaf = node.child[0] < 0;
         if (!leaf || node.hi - node.lo > 2) {   // (a quad's two triangles are tested faster one by one)
-            // n̂_t·(p − v) = n̂_t·d + n̂_t·(c − v), |n̂_t·(c − v)| ≤ R, and n̂_t·d lies within the cone's
-            // angle α of the axis's β: between |d| cos(min(π, β + α)) and |d| cos(max(0, β − α)).
-            const Vec3f d = p - node.centre;
-            const float dist = length(d), r = node.radius * 1.0001f + 1e-6f * dist;
-            // sin β from the cross product: √(1 − cos²β) loses ~1e-4 near β = 0 or π, more than the margin.
-            const float cb = dist > 0.f ? std::clamp(dot(node.axis, d) / dist, -1.f, 1.f) : 1.f,
-                        sb = dist > 0.f ? std::min(1.f, length(cross(node.axis, d)) / dist) : 0.f;
-            const float ca = node.cos_cone, sa = node.sin_cone;
-            const float most = cb >= ca ? dist : dist * (cb * ca + sb * sa);            // β ≤ α: cos 0
-            const float least = ca + cb <= 0.f ? -dist : dist * (cb * ca - sb * sa);   // β + α ≥ π: cos π
-            if (most + r <= 0.f) continue;   // every face turned away from p: adds 0
+            const ConeBounds b = cone_bounds(node, p);
+            if (b.most + b.r <= 0.f) continue;   // every face turned away from p: adds 0
             // Every face towards p and above its horizon (and the node's outline kept: index_edges).
-            if (node.whole_ok && least - r > 0.f && dot(n, node.centre - p) > r) {
+            if (node.whole_ok && b.least - b.r > 0.f && dot(n, node.centre - p) > b.r) {
                 for (uint32_t i = node.lo; i < node.hi; ++i) sc.whole[l.order[i]] = 1;
                 sc.nodes.push_back(id);
                 continue;
@@ -275,15 +294,38 @@ Vec3f RatioDirectLight::unoccluded(Vec3f p, Vec3f n) const {
     return e;
 }
 
+float RatioDirectLight::share_factor(const Light &l, Vec3f p, Vec3f n, bool &exact) const {
+    exact = true;
+    const Light::Node &root = l.tree[0];
+    const ConeBounds b = cone_bounds(root, p);
+    // Wholly below the horizon (unoccluded_factor clips there) or behind every face: exactly 0.
+    if (dot(n, root.centre - p) + b.r <= 0.f || b.most + b.r <= 0.f) return 0.f;
+    if (length(p - root.centre) <= k_near_radii * root.radius) return unoccluded_factor(l, p, n);
+    exact = false;
+    const Vec3f to = l.centroid - p;
+    const float d2 = dot(to, to);
+    if (!(d2 > 0.f)) return unoccluded_factor(l, p, n);   // (a closed lamp's centroid inside it)
+    const Vec3f w = to / std::sqrt(d2);
+    // A flat lamp: A·cos_l; a curved one (a wide cone: a sphere, a box) shows about a quarter of its
+    // area from any side (a sphere exactly: πr² of 4πr²).
+    const float cos_l = root.cos_cone >= 0.5f ? std::max(0.f, -dot(root.axis, w)) : 0.25f;
+    const float approx = l.area * std::max(0.f, dot(n, w)) * cos_l / d2;
+    return std::max(approx, 1e-3f * l.area / d2);   // straddling the horizon, say: still a sample
+}
+
 Vec3f RatioDirectLight::irradiance(Vec3f p, Vec3f n, uint64_t key, int n_samples) const {
     if (n_samples <= 0) LTM_THROW("direct light: samples per point must be > 0, got ", n_samples);
-    // E_unocc per light, and the luminance that shares the samples out.
+    // The luminance that shares the samples out (share_factor), and which lights have their exact
+    // E_unocc already.
     const size_t n_lights = m_lights.size();
     thread_local std::vector<float> g;
-    g.assign(n_lights, 0.f);
+    thread_local std::vector<uint8_t> exact;
+    g.assign(n_lights, 0.f), exact.assign(n_lights, 0);
     double total = 0.0;
     for (size_t i = 0; i < n_lights; ++i) {
-        g[i] = unoccluded_factor(m_lights[i], p, n);
+        bool ex = false;
+        g[i] = share_factor(m_lights[i], p, n, ex);
+        exact[i] = ex;
         total += double(g[i]) * double(luminance(m_lights[i].radiance));
     }
     if (!(total > 0.0)) return Vec3f(0.f);
@@ -312,8 +354,10 @@ Vec3f RatioDirectLight::irradiance(Vec3f p, Vec3f n, uint64_t key, int n_samples
             if (!m_accel.occluded(shadow_ray(p, n, q))) seen += w;
         }
         // No sample on the part above the horizon (a sliver): its visibility is unknown; 0, as
-        // the MIS estimator would give from these samples.
-        if (all > 0.0) e += l.radiance * (g[i] * float(seen / all));
+        // the MIS estimator would give from these samples. No sample seen: 0 whatever E_unocc is.
+        if (!(all > 0.0) || !(seen > 0.0)) continue;
+        const float e_unocc = exact[i] ? g[i] : unoccluded_factor(l, p, n);
+        e += l.radiance * (e_unocc * float(seen / all));
     }
     return e;
 }

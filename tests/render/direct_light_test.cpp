@@ -116,7 +116,9 @@ double triangle_irradiance_double(Vec3f pf, Vec3f nf, Vec3f v0, Vec3f v1, Vec3f 
 // other way and one missing. E_unocc, summed over the outline of what is in view, equals the sum of
 // every triangle's own clipped formula (in double) — for receivers that see the lamps whole, cut by
 // their horizon, grazing and inside the open box.
-TEST(DirectLight, OutlineSumEqualsTheTrianglesSum) {
+// A seamed sphere lamp (48 × 24) and a box of five quads as a triangle soup, one face wound inwards
+// and one side missing.
+Scene sphere_and_box_lamps() {
     Scene s;
     s.name = "lamps";
     Material light;
@@ -150,6 +152,11 @@ TEST(DirectLight, OutlineSumEqualsTheTrianglesSum) {
     add_quad_facing(box, corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1), {0, 0, 1});
     add_quad_facing(box, corner(0, 1, 0), corner(1, 1, 0), corner(1, 1, 1), corner(0, 1, 1), {0, -1, 0});   // wound inwards
     s.meshes = {sphere, box};
+    return s;
+}
+
+TEST(DirectLight, OutlineSumEqualsTheTrianglesSum) {
+    const Scene s = sphere_and_box_lamps();
     const EmbreeAccel accel(s);
     const RatioDirectLight lamps(accel, 0);
     Pcg32 rng(7);
@@ -169,6 +176,72 @@ TEST(DirectLight, OutlineSumEqualsTheTrianglesSum) {
         EXPECT_NEAR(e.z, want, 1e-5 * want + 1e-9) << "receiver " << k;
     }
     EXPECT_GT(cut, 100) << "receivers whose horizon cuts a lamp";
+}
+
+// Where nothing occludes, every light that a receiver sees analytically must get samples, whether
+// its share came from the exact sum (near it) or from the small-source approximation (far from it),
+// and every seen light adds its exact E_unocc: the ratio estimate is the analytic sum (but for
+// slivers above the horizon that no sample of 4 096 hits). A light dropped from the
+// share — ruled out as below the horizon or turned away when part of it is not — shows here. The
+// lamps lie on a shell of radius 5 around the receivers, apart, so that none hides another: 24 small
+// quads tilted up to 70° off the centre (clear of the other two) (some turned away from part of the ball, many straddling a
+// receiver's horizon), one 3 m quad (receivers within 3 of its radii take the exact share) and a
+// tessellated sphere.
+TEST(DirectLight, RatioEstimatorSharesTheSamplesWithoutDroppingALight) {
+    Scene s;
+    s.name = "shell";
+    Material light;
+    light.name = "light";
+    light.albedo = Texture::constant(Vec3f(0.f));
+    light.emission = Texture::constant(Vec3f(3.f, 2.f, 1.f));
+    s.add_material(light);
+    Pcg32 rng(11);
+    const auto quad = [&](Vec3f centre, Vec3f facing, float half, const std::string &name) {
+        const Frame f(facing);
+        TriangleMesh m;
+        m.name = name, m.material = 0;
+        const Vec3f u = f.s * half, v = f.t * half;
+        add_quad_facing(m, centre - u - v, centre + u - v, centre + u + v, centre - u + v, facing);
+        s.meshes.push_back(m);
+    };
+    const int n_small = 24;
+    const Vec3f sphere_dir = normalize(Vec3f(0.f, 1.f, 0.5f));
+    for (int i = 0; i < n_small; ++i) {
+        // Fibonacci directions: well apart on the sphere.
+        const float z = 1.f - 2.f * (float(i) + 0.5f) / float(n_small), r = std::sqrt(1.f - z * z), ph = 2.39996323f * float(i);
+        const Vec3f dir(r * std::cos(ph), z, r * std::sin(ph));
+        if (dir.z < -0.6f || dot(dir, sphere_dir) > 0.9f) continue;   // keep clear of the large quad and the sphere
+        const Vec3f tilt = normalize(Vec3f(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
+        const Vec3f facing = normalize(-dir + 2.7f * rng.next_float() * normalize(tilt - dot(tilt, dir) * dir));
+        quad(5.f * dir, facing, 0.25f, "small" + std::to_string(i));
+    }
+    quad({0.f, 0.f, -6.f}, {0, 0, 1}, 1.5f, "large");
+    TriangleMesh sphere = sphere_and_box_lamps().meshes[0];
+    for (Vec3f &v : sphere.positions) v += 4.f * sphere_dir - Vec3f(0.3f, 1.8f, -0.2f);   // its centre to 4 · sphere_dir
+    s.meshes.push_back(sphere);
+    const EmbreeAccel accel(s);
+    const RatioDirectLight lamps(accel, 0);
+    int lit = 0, near_large = 0, off = 0;
+    for (int k = 0; k < 300; ++k) {
+        Vec3f p;
+        do p = Vec3f(rng.next_float(), rng.next_float(), rng.next_float()) * 2.f - Vec3f(1.f);
+        while (dot(p, p) > 1.f);
+        p.z -= 2.f * float(k % 2);   // every other receiver nearer the large quad (within 3 of its radii)
+        near_large += k % 2;
+        const Vec3f n = normalize(Vec3f(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f));
+        const Vec3f want = lamps.unoccluded(p, n);
+        const Vec3f e = lamps.irradiance(p, n, uint64_t(k), 4096);
+        if (want.z > 0.f) ++lit;
+        // Red is 3× blue: the channels must agree too (a lamp's colour is one radiance).
+        EXPECT_NEAR(e.x, want.x, 0.02f * want.x + 1e-9f) << "receiver " << k;
+        EXPECT_NEAR(e.z, e.x / 3.f, 1e-5f * e.x) << "receiver " << k;
+        off += std::abs(e.x - want.x) > 2e-3f * want.x;
+    }
+    EXPECT_GT(lit, 290);
+    // Slivers: a lamp the horizon cuts, with a few samples of its own, may get none above it (then 0,
+    // as the estimator's comment says); a lamp dropped from the share would move far more receivers.
+    EXPECT_LE(off, 10) << "receivers off by more than 0.2 %";
+    EXPECT_EQ(near_large, 150);
 }
 
 // Unshadowed: the ratio is 1, so any sample count gives the analytic value exactly.

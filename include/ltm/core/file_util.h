@@ -48,6 +48,10 @@ private:
     bool m_committed = false;
 };
 
+/// Throws "path: cannot write: directory 'dir' does not exist" unless the file's directory exists:
+/// what AtomicFile checks, for a command to call before its work rather than after it.
+void check_output_directory(const std::string &path);
+
 /// Writes a string atomically.
 void write_file_atomic(const std::string &path, const std::string &contents);
 

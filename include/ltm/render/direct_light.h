@@ -4,10 +4,12 @@
 //     E_direct ≈ Σ_l E_unocc,l · (Σ_s V_s·w_s) / (Σ_s w_s),   w_s = cosθ_x·cosθ_l / (d²·p_A)
 // per light l (an emissive mesh), where E_unocc,l is exact (Lambert's polygon formula over its
 // triangles, clipped to the receiver's hemisphere; the terms of every front-facing triangle share
-// one sign, so the edges that two such triangles share cancel and a mesh in view costs its outline) and the ratio uses the same samples on l with
-// and without their shadow rays. The n samples are shared among the lights in proportion to
-// E_unocc,l (at least one each), so a light in another room — unoccluded analytically, occluded
-// in fact — costs one shadow ray and adds no noise to the lights that are seen. Unshadowed points are exact at any sample count and penumbrae keep only the noise of the
+// one sign, so the edges that two such triangles share cancel and a mesh in view costs its outline)
+// and the ratio uses the same samples on l with and without their shadow rays. The n samples are
+// shared among the lights in proportion to E_unocc,l, or to its small-source approximation for a
+// light farther than a few of its radii (at least one each), and E_unocc,l is summed only for a
+// light that a sample sees: a light in another room — unoccluded analytically, occluded in fact —
+// costs one shadow ray, adds no noise to the lights that are seen, and no arc terms. Unshadowed points are exact at any sample count and penumbrae keep only the noise of the
 // visibility ratio, so a few samples give a clean image. A ratio of estimates is biased, but
 // consistent (→ E_direct as samples grow); the path tracer's unbiased MIS estimator stays the
 // ground truth. Needs constant emission (textured emitters: use the MIS estimator).
@@ -45,6 +47,8 @@ private:
         std::vector<Vec3f> normal;    // plane normalised: unit, emitting side
         std::vector<double> cdf;      // by area, last = 1
         Vec3f radiance;
+        Vec3f centroid{0.f};          // area-weighted: the small-source approximation's point (share_factor)
+        float area = 0.f;
         // For unoccluded_factor's sum over a region's outline (index_edges):
         std::vector<int32_t> twin;    // per side k of triangle t (v_k → v_k+1): the triangle traversing it the other way, or −1
         // A binary tree over the triangles (leaves of ≤ 8): a subtree wholly behind its faces is
@@ -70,6 +74,13 @@ private:
     /// away and takes those wholly in view by their outlines: about O(outline + tree nodes visited)
     /// arc terms and bounds a receiver.
     float unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const;
+    /// What shares irradiance()'s samples out among the lights, for unit radiance: 0 where l is
+    /// wholly below p's horizon or turned away (exactly E_unocc,l there); unoccluded_factor itself
+    /// (`exact`) within k_near_radii of l's bounding sphere; farther, the small-source approximation
+    /// A·cos_x·cos_l/d² at its centroid, floored so that a light not ruled out keeps a sample. The
+    /// exact sum is then paid only for lights a sample sees: a lamp in another room costs its shadow
+    /// ray and a few bounds, not its outline's arc terms.
+    float share_factor(const Light &l, Vec3f p, Vec3f n, bool &exact) const;
     const EmbreeAccel &m_accel;
     std::vector<Light> m_lights;
     uint64_t m_seed;
