@@ -1,6 +1,7 @@
 // bad_input_test.cpp: every bad input gives "ltm <cmd>: error: <file>...: <what>", exit 1, and
 // no output file.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -111,6 +112,10 @@ TEST(BadInput, UnwritableOutputsLeaveNothing) {
     const size_t n = dir.count();
     expect_error(dir, n, {"generate", "--seed", "1", "-o", dir.path("no/such/dir/s.json")}, "generate", "does not exist");
     expect_error(dir, n, {"preview", "builtin:cornell-box", "-o", dir.path("no/p.png")}, "preview", "does not exist");
+    // Before the render, not after it: these 10⁶ spp would take hours.
+    const auto t = std::chrono::steady_clock::now();
+    expect_error(dir, n, {"render", "builtin:cornell-box", "--spp", "1000000", "-o", dir.path("no/img.exr")}, "render", "does not exist");
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(), 60.0);
 }
 
 TEST(BadInput, GeneratorConfigErrorsNameTheKey) {
