@@ -1,4 +1,4 @@
-// knn.cpp: nanoflann on CPU; torch brute force elsewhere. FPS: an O(M·m) loop on CPU (0.1 s for
+// knn.cpp: nanoflann on CPU (points/knn_points.h); torch brute force elsewhere. FPS: an O(M·m) loop on CPU (0.1 s for
 // 8192 → 4096), a tensor loop on other devices.
 #include "ltm/nn/knn.h"
 
@@ -6,23 +6,12 @@
 #include <limits>
 #include <numeric>
 
-#include <nanoflann.hpp>
-
 #include "ltm/points/farthest_points.h"
+#include "ltm/points/knn_points.h"
 
 namespace ltm {
 
 namespace {
-struct PointCloudAdaptor {
-    const float *pts;
-    size_t n;
-    size_t kdtree_get_point_count() const { return n; }
-    float kdtree_get_pt(size_t i, size_t dim) const { return pts[3 * i + dim]; }
-    template <class B> bool kdtree_get_bbox(B &) const { return false; }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointCloudAdaptor>,
-                                                   PointCloudAdaptor, 3, uint32_t>;
-
 void check_positions(const torch::Tensor &t, const char *name) {
     TORCH_CHECK(t.dim() == 2 && t.size(1) == 3, "knn: ", name, " must be [n, 3], got ", t.sizes());
     TORCH_CHECK(t.scalar_type() == torch::kFloat32, "knn: ", name, " must be float32, got ", t.scalar_type());
@@ -50,28 +39,8 @@ torch::Tensor knn(const torch::Tensor &query, const torch::Tensor &ref, int64_t 
     check_positions(ref, "ref");
     TORCH_CHECK(k >= 1 && k <= ref.size(0), "knn: k = ", k, " but only ", ref.size(0), " reference points");
     const auto r = ref.contiguous(), q = query.contiguous();
-    PointCloudAdaptor adaptor{r.data_ptr<float>(), size_t(r.size(0))};
-    KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(/*leaf_max_size=*/16));
-    tree.buildIndex();
-    const int64_t n = q.size(0);
-    auto out = torch::empty({n, k}, torch::kInt64);
-    int64_t *o = out.data_ptr<int64_t>();
-    const float *qp = q.data_ptr<float>();
-    at::parallel_for(0, n, 256, [&](int64_t b, int64_t e) {
-        const size_t kk = static_cast<size_t>(k);
-        std::vector<uint32_t> idx(kk);
-        std::vector<float> d2(kk);
-        std::vector<std::pair<float, uint32_t>> sorted(kk);
-        for (int64_t i = b; i < e; ++i) {
-            nanoflann::KNNResultSet<float, uint32_t> rs(kk);
-            rs.init(idx.data(), d2.data());
-            tree.findNeighbors(rs, qp + 3 * i, nanoflann::SearchParams(/*checks=*/32, /*eps=*/0.f, /*sorted=*/true));
-            for (int64_t j = 0; j < k; ++j) sorted[size_t(j)] = {d2[size_t(j)], idx[size_t(j)]};
-            std::sort(sorted.begin(), sorted.end());   // ties by lower index
-            for (int64_t j = 0; j < k; ++j) o[i * k + j] = int64_t(sorted[size_t(j)].second);
-        }
-    });
-    return out;
+    std::vector<int64_t> idx = knn_points(q.data_ptr<float>(), size_t(q.size(0)), r.data_ptr<float>(), size_t(r.size(0)), k);
+    return torch::from_blob(idx.data(), {q.size(0), k}, torch::kInt64).clone();
 }
 
 torch::Tensor farthest_point_sampling(const torch::Tensor &pos, int64_t m) {

@@ -9,6 +9,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/nn/fused_decoder.h"
 #include "ltm/nn/knn.h"
+#include "ltm/nn/scene_frame.h"
 #include "ltm/points/point_set.h"
 
 #include <optional>
@@ -16,152 +17,50 @@
 
 namespace ltm {
 
-torch::Tensor bounding_box_center(const torch::Tensor &positions) {
-    TORCH_CHECK(positions.dim() == 2 && positions.size(1) == 3 && positions.size(0) > 0,
-                "bounding_box_center: positions must be [n, 3], got ", positions.sizes());
-    return 0.5f * (std::get<0>(positions.min(0)) + std::get<0>(positions.max(0)));
-}
-
-torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces) {
-    // Σ_{k=1..D} ρ^k, summed term by term: exact at ρ = 1 (= D) where the geometric formula divides by 0.
-    const auto r = rho.clamp(0.0, 1.0);
-    auto term = torch::ones_like(r), sum = torch::zeros_like(r);
-    for (int k = 0; k < bounces; ++k) {
-        term = term * r;
-        sum = sum + term;
-    }
-    return sum;
-}
-
 namespace {
-// Mean over the rows of t [N] or [N, C] -> [] or [C] (t's dtype and device), summed in row order in
-// double on the CPU. torch's reductions split the rows among its threads, so their last bit
-// depended on --threads; the prior's grids and clusters (cell = ⌊x/h⌋) turned one ulp of ℓ into
-// differences of ~1e-3 in Ê⁺ between `ltm render --threads 1` and `--threads 2`.
-torch::Tensor ordered_mean(const torch::Tensor &t) {
-    TORCH_CHECK((t.dim() == 1 || t.dim() == 2) && t.size(0) > 0, "ordered_mean: expected [N] or [N, C], N > 0, got ", t.sizes());
-    const auto c = t.detach().to(torch::kCPU, torch::kFloat64).contiguous().view({t.size(0), -1});
-    const int64_t rows = c.size(0), cols = c.size(1);
-    std::vector<double> sum(size_t(cols), 0.0);
-    const double *v = c.data_ptr<double>();
-    for (int64_t i = 0; i < rows; ++i)
-        for (int64_t j = 0; j < cols; ++j) sum[size_t(j)] += v[i * cols + j];
-    for (double &x : sum) x /= double(rows);
-    auto out = torch::tensor(sum, torch::kFloat64);
-    if (t.dim() == 1) out = out.squeeze(0);
-    return out.to(t.options());
-}
-
-// Scene point rows [n, 12] as a scene point table (the transport prior's input, points/).
-PointSet scene_point_table(const torch::Tensor &rows) {
-    const auto c = rows.detach().to(torch::kCPU, torch::kFloat32).contiguous();
-    PointSet p;
-    p.columns = scene_point_columns();
-    p.values.assign(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
-    return p;
-}
-
-// The transport prior (transport/transport_prior.h) in the normalised frame, among the FPS anchors
-// (prior_nodes "anchors") or every scene point ("points"). Each of n nodes stands for M/n scene
-// points; a scene point for π (3ℓ/2)² / k of area — the k group members of an FPS centre lie
-// within ~3ℓ/2 (mean distance 2/3 of a disc's radius), and ℓ = 1 in this frame. Emitters are few
-// (20–130 of 8 192 points), so the solver rescales the nodes' emission per channel to
-// π · mean = S_c exactly; a channel with S_c > 0 but no emitting anchor (a tiny lamp that FPS
-// missed) uses every scene point as a node instead. With prior_visibility, occlusion from the
-// voxels of every scene point (transport/point_visibility.h), edge prior_visibility × the points' own
-// spacing (measured from them, so the grid does not move with ℓ); with prior_discs, segments are
-// tested against every scene point as a disc of that many spacings instead.
-std::shared_ptr<const TransportPrior> solve_transport(const torch::Tensor &sp, const SceneGeometry &geometry,
-                                                      const SceneNormalization &n, const PhysicsConfig &physics,
-                                                      std::shared_ptr<const SegmentOcclusion> occlusion) {
-    torch::NoGradGuard no_grad;
-    const int64_t m_all = sp.size(0), k = geometry.groups.size(1);
-    const auto framed = torch::cat({(sp.slice(1, 0, 3) - n.center) / n.length, sp.slice(1, 3, 12)}, 1);
-    auto nodes = physics.prior_nodes == "points" ? framed : framed.index_select(0, geometry.centers);
-    if (((nodes.slice(1, 9, 12).amax(0) <= 0) & (n.emission > 0)).any().item<bool>()) nodes = framed;
-    const double point_area = k_pi * 2.25 / double(k);
-    const double area = point_area * double(m_all) / double(nodes.size(0));
-    const auto e = n.emission.to(torch::kCPU, torch::kFloat32);
-    const Vec3f s(e[0].item<float>(), e[1].item<float>(), e[2].item<float>());
-    VisibilityOptions vis;
-    vis.voxel_spacings = physics.prior_visibility;   // in units of the points' own spacing: free of ℓ's FPS ties
-    vis.clusters = physics.prior_clusters;
-    vis.disc_spacings = physics.prior_discs;
-    vis.blend = physics.prior_blend;
-    vis.open_rays = physics.prior_open_rays;
-    if (physics.prior_rays) {
-        if (!occlusion)
-            LTM_THROW("physics.prior_rays: the transport prior's visibility by rays needs the scene's meshes (render, eval, bake-gi); "
-                      "scene points alone (a training record) have none");
-        // The prior works in the normalised frame: its points map back by centre + ℓ·x.
-        const auto c = n.center.to(torch::kCPU, torch::kFloat32);
-        vis.rays.occlusion = std::make_shared<FramedOcclusion>(std::move(occlusion), Vec3f(c[0].item<float>(), c[1].item<float>(), c[2].item<float>()),
-                                                               n.length.to(torch::kCPU, torch::kFloat32).item<float>());
-        vis.rays.closure_rays = physics.prior_open_rays;
-    }
-    const PointSet all = scene_point_table(framed);
-    return std::make_shared<const TransportPrior>(
-        solve_transport_prior(scene_point_table(nodes), float(area), physics.prior_bounces, &s, vis, &all,
-                              physics.prior_balance == "none"   ? PriorBalance::none
-                              : physics.prior_balance == "grey" ? PriorBalance::grey
-                                                                : PriorBalance::per_channel,
-                              physics.prior_patches, physics.prior_theta));
-}
-
 // output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]
 torch::Tensor output_scale_normalized(const torch::Tensor &q, const SceneNormalization &norm) {
     if (!norm.transport) return norm.output;
     torch::NoGradGuard no_grad;
     const auto qc = q.detach().to(torch::kCPU, torch::kFloat32).contiguous();
     auto out = torch::empty({qc.size(0), 3}, torch::kFloat32);
-    const float *p = qc.data_ptr<float>();
-    gather_transport_prior(*norm.transport, p, p + 3, 9, size_t(qc.size(0)), out.data_ptr<float>());
-    return torch::maximum(out.to(norm.output.device()), 1e-3 * norm.output);
+    const auto o = norm.output.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    prior_scale_normalized(norm.transport.get(), Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>()), qc.data_ptr<float>(), 9,
+                           size_t(qc.size(0)), reinterpret_cast<Vec3f *>(out.data_ptr<float>()));
+    return out.to(norm.output.device());
 }
+
+torch::Tensor vec3_tensor(Vec3f v, const torch::TensorOptions &opts) { return torch::tensor({v.x, v.y, v.z}).to(opts); }
 }  // namespace
 
 SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics,
                                        const torch::Tensor &emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion) {
     TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
-    if (!torch::isfinite(sp).all().item<bool>()) LTM_THROW("scene points contain NaN or Inf");
-    if (!(sp.slice(1, 9, 12) >= 0).all().item<bool>()) LTM_THROW("scene point emission must be >= 0");
+    const auto c = sp.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    PointGroups g;
+    if (geometry.centers.defined()) {
+        const auto ce = geometry.centers.to(torch::kCPU, torch::kInt64).contiguous(), gr = geometry.groups.to(torch::kCPU, torch::kInt64).contiguous();
+        g.centers.assign(ce.data_ptr<int64_t>(), ce.data_ptr<int64_t>() + ce.numel());
+        g.groups.assign(gr.data_ptr<int64_t>(), gr.data_ptr<int64_t>() + gr.numel());
+        g.k = gr.dim() == 2 ? gr.size(1) : 0;
+    }
+    Vec3f given(0.f);
+    if (emission_scale.defined()) {
+        TORCH_CHECK(emission_scale.dim() == 1 && emission_scale.size(0) == 3, "emission scale must be [3], got ", emission_scale.sizes());
+        const auto e = emission_scale.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+        given = Vec3f(e[0].item<float>(), e[1].item<float>(), e[2].item<float>());
+    }
+    // One implementation of the frame, tensor model or not (nn/scene_frame.h).
+    const SceneFrame f = solve_scene_frame(c.data_ptr<float>(), size_t(c.size(0)), g, physics, emission_scale.defined() ? &given : nullptr,
+                                           std::move(occlusion));
     const auto opts = sp.options();
     SceneNormalization n;
-    const auto pos = sp.slice(1, 0, 3);
-    n.center = bounding_box_center(pos);
-    n.length = torch::ones({}, opts);
-    if (physics.length_scale) {
-        // ℓ = mean |p_j − p_centre| over every (FPS centre, group member) pair: equivariant with the unit.
-        const auto c = pos.index_select(0, geometry.centers).unsqueeze(1);                               // [m, 1, 3]
-        const auto g = pos.index_select(0, geometry.groups.reshape(-1)).view({geometry.groups.size(0), -1, 3});   // [m, k, 3]
-        n.length = ordered_mean((g - c).norm(2, -1).reshape(-1));
-        const double l = n.length.item<double>();
-        if (!(l > 0.0) || !std::isfinite(l))
-            LTM_THROW("scene points have zero extent (mean neighbour distance ", l, "): no length scale");
-    }
-    n.emission = torch::ones({3}, opts);
-    n.output = torch::ones({3}, opts);
-    if (physics.emission_scale) {
-        // S_c = Φ_c / A: exact from the meshes when given, else π · mean_j e_jc (the scene points
-        // are area-uniform, so this estimates Φ_c / A, with the noise of the few emitter points).
-        if (emission_scale.defined()) {
-            TORCH_CHECK(emission_scale.dim() == 1 && emission_scale.size(0) == 3, "emission scale must be [3], got ",
-                        emission_scale.sizes());
-            if (!(torch::isfinite(emission_scale).all().item<bool>() && (emission_scale >= 0).all().item<bool>()))
-                LTM_THROW("emission scale must be finite and >= 0");
-            n.emission = emission_scale.to(opts);
-        } else {
-            n.emission = k_pi * ordered_mean(sp.slice(1, 9, 12));
-        }
-        // No emission among the scene points: S = 0, so E⁺ = 0 (no light, no indirect light).
-        n.output = n.emission;
-        if (physics.prior_bounces > 0) n.output = n.emission * power_balance_factor(ordered_mean(sp.slice(1, 6, 9)), physics.prior_bounces);
-        if (physics.prior_field == "transport") {
-            const auto t = std::chrono::steady_clock::now();
-            n.transport = solve_transport(sp, geometry, n, physics, std::move(occlusion));
-            n.solve_seconds = seconds_since(t);
-        }
-    }
+    n.center = vec3_tensor(f.center, opts);
+    n.length = torch::full({}, f.length, opts);
+    n.emission = vec3_tensor(f.emission, opts);
+    n.output = vec3_tensor(f.output, opts);
+    n.transport = f.transport;
+    n.solve_seconds = f.solve_seconds;
     return n;
 }
 
@@ -193,11 +92,12 @@ LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
 
 SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) const {
     TORCH_CHECK(scene_points.dim() == 2 && scene_points.size(1) == 12, "scene points must be [M, 12], got ", scene_points.sizes());
-    const auto pos = scene_points.slice(1, 0, 3).contiguous();
-    const int64_t m = std::max<int64_t>(1, int64_t(float(pos.size(0)) * cfg.embedding.sample_ratio));
+    const auto pos = scene_points.slice(1, 0, 3).to(torch::kCPU, torch::kFloat32).contiguous();
+    PointGroups pg = point_groups(pos.data_ptr<float>(), size_t(pos.size(0)), cfg.embedding);   // the prior's frame uses the same
+    const auto dev = scene_points.device();
     SceneGeometry g;
-    g.centers = farthest_point_sampling(pos, m);
-    g.groups = knn(pos.index_select(0, g.centers), pos, std::min<int64_t>(cfg.embedding.k, pos.size(0)));
+    g.centers = torch::from_blob(pg.centers.data(), {int64_t(pg.centers.size())}, torch::kInt64).clone().to(dev);
+    g.groups = torch::from_blob(pg.groups.data(), {int64_t(pg.centers.size()), pg.k}, torch::kInt64).clone().to(dev);
     return g;
 }
 
@@ -366,8 +266,10 @@ torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &sca
 
 torch::Tensor prior_irradiance(const torch::Tensor &query_points, const SceneNormalization &norm) {
     torch::NoGradGuard no_grad;
-    const auto z = torch::softplus(torch::zeros({query_points.size(0), 3}, norm.output.options()));
-    return irradiance_from_z(z, output_scale(query_points.to(norm.output.device()), norm));
+    // The arithmetic of nn/scene_frame.h's prior_irradiance, step for step: the same numbers.
+    auto scale = output_scale(query_points.to(norm.output.device()), norm);   // [N, 3], or [3] for the flat prior
+    if (scale.dim() == 1) scale = scale.expand({query_points.size(0), 3});
+    return scale * prior_gain();
 }
 
 torch::Tensor prior_features(const torch::Tensor &prior, const SceneNormalization &norm) {

@@ -10,6 +10,7 @@
 #include "ltm/core/error.h"
 #include "ltm/nn/knn.h"
 #include "ltm/nn/ltm_model.h"
+#include "ltm/nn/scene_frame.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/transport/power_balance.h"
 #include "ltm/points/surface_sampler.h"
@@ -351,8 +352,8 @@ TEST(Physics, NormalisationMatchesItsDefinition) {
     // The torch prior and the torch-free one (transport/power_balance.h, eval's flat-prior row) agree.
     const auto pb = power_balance_irradiance(to_scene_points(sample_surface(f.scene, f.cfg.scene_points, 1, SampleStream::scene_points)), 5);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(n.output[c].item<double>(), pb[size_t(c)], 1e-5 * pb[size_t(c)]) << c;
-    EXPECT_NEAR(power_balance_factor(torch::tensor({1.0f}), 5).item<double>(), 5.0, 0);
-    EXPECT_NEAR(power_balance_factor(torch::tensor({0.5f}), 3).item<double>(), 0.875, 1e-7);
+    EXPECT_EQ(power_balance_factor(Vec3f(1.f), 5).x, 5.f);
+    EXPECT_NEAR(power_balance_factor(Vec3f(0.5f), 3).y, 0.875, 1e-7);
     // ℓ tracks the point spacing √(A/M): a scene with points ×3 apart has ℓ ×3.
     const SceneNormalization n3 = scene_normalization(scaled(f.sp, 0, 3, 3.0), g, f.cfg.physics);
     EXPECT_NEAR(n3.length.item<double>(), 3.0 * n.length.item<double>(), 1e-5 * n3.length.item<double>());

@@ -62,7 +62,8 @@ struct SceneLatents {
     std::shared_ptr<Deferred> deferred;
 };
 
-/// The scene's normalisation (ARCHITECTURE.md §6, PhysicsConfig).
+/// The scene's normalisation (ARCHITECTURE.md §6, PhysicsConfig): nn/scene_frame.h's
+/// solve_scene_frame, its values as tensors.
 ///   scene_points [M, 12] raw, geometry of the same points, emission_scale [3] or undefined -> SceneNormalization
 /// S = emission_scale when defined (exact Φ/A of the meshes), else π · mean emission of the points.
 /// Throws ltm::Error on non-finite points, negative emission or a scene of zero extent.
@@ -76,9 +77,6 @@ SceneNormalization scene_normalization(const torch::Tensor &scene_points, const 
 torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const SceneNormalization &norm);
 ///   query_points [N, 9] -> [N, 9]: (p − centre)/ℓ, n, albedo
 torch::Tensor normalize_query_points(const torch::Tensor &query_points, const SceneNormalization &norm);
-torch::Tensor bounding_box_center(const torch::Tensor &positions);
-/// Σ_{k=1..D} ρ^k per channel (closed-form enclosure power balance; ρ clamped to [0, 1]).  rho [3] -> [3]
-torch::Tensor power_balance_factor(const torch::Tensor &rho, int bounces);
 
 /// Where predict_irradiance spends its time (seconds, accumulated over chunks).
 struct PredictTimings {

@@ -1,0 +1,71 @@
+// scene_frame.h: the model's frame of a scene and its closed-form prior, without libtorch.
+//
+// The model divides a scene's lengths by ℓ and its emission by S_c, and multiplies its output by the
+// prior (PhysicsConfig): these are pure functions of the scene points, their FPS centres and groups,
+// and the config. A model whose decoder's output layer is zero (at its prior, as the shipped model)
+// predicts Ê⁺ = prior(query) · expm1(softplus(0)) wherever it is asked, so rendering it needs only
+// this file: the tensor model (nn/ltm_model.h) builds its SceneNormalization from the same
+// SceneFrame, and the two paths give the same numbers by construction.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "ltm/core/math.h"
+#include "ltm/nn/model_config.h"
+#include "ltm/transport/segment_occlusion.h"
+#include "ltm/transport/transport_prior.h"
+
+namespace ltm {
+
+/// FPS centres of the scene points and the kNN group of each (EmbeddingConfig: m = M · sample_ratio
+/// centres, k neighbours): geometry only.
+struct PointGroups {
+    std::vector<int64_t> centers;   ///< [m] indices into the scene points
+    std::vector<int64_t> groups;    ///< [m, k] row-major
+    int64_t k = 0;
+};
+/// positions: [M, 3] row-major. FPS from point 0 (points/farthest_points.h), then the k = min(cfg.k,
+/// M) nearest points of each centre (points/knn_points.h).
+PointGroups point_groups(const float *positions, size_t n_points, const EmbeddingConfig &cfg);
+
+/// What the model's inputs are divided by and its output multiplied by (nn/ltm_model.h's
+/// SceneNormalization holds the same values as tensors).
+struct SceneFrame {
+    Vec3f center{0.f};       ///< bounding-box centre, subtracted from every position
+    float length = 1.f;      ///< ℓ: mean |p_j − p_c| over the groups' (centre, member) pairs; 1 without length_scale
+    Vec3f emission{1.f};     ///< S_c (exact Φ/A when given, else π · mean point emission); 1 without emission_scale
+    Vec3f output{1.f};       ///< S_c · Σ_{k=1..D} ρ̄_c^k; the "flat" prior's level
+    /// physics.prior_field "transport": the prior solved among the nodes, in the normalised frame.
+    std::shared_ptr<const TransportPrior> transport;
+    double solve_seconds = 0;   ///< the transport solve's share of the frame's time
+};
+
+/// The frame of scene points [M, 12] (scene_point_columns(): p, n, albedo, emission; raw units) with
+/// their groups. emission_scale: S = Φ/A from the meshes (null: π · mean point emission). occlusion:
+/// the scene's meshes for physics.prior_rays (required then). Throws ltm::Error on non-finite points,
+/// negative emission, a bad emission scale or a scene of zero extent.
+SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
+                             const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {});
+
+/// The prior that the model's output multiplies, at query rows already in the normalised frame
+/// ((p − centre)/ℓ, n, albedo: `stride` floats a row): the transport prior's gather floored at
+/// 10⁻³ · output (a query that faces no node keeps a finite frame), or `output` for the flat prior
+/// (transport null). out [n] (raw units: W/m²). Deterministic at any thread count.
+void prior_scale_normalized(const TransportPrior *transport, Vec3f output, const float *rows, size_t stride, size_t n, Vec3f *out);
+
+/// Σ_{k=1..D} ρ^k per channel, ρ clamped to [0, 1], term by term in float: exact at ρ = 1 (= D),
+/// where the geometric formula divides by 0. The enclosure power balance's gain.
+Vec3f power_balance_factor(Vec3f rho, int bounces);
+
+/// The value a zeroed output layer gives the decoder's z: softplus(0) = log 2, and E⁺ = scale ·
+/// expm1(z), so Ê⁺ = scale · prior_gain(). (expm1(log 2) rounds to 1 or next to it in float.)
+float prior_gain();
+
+/// The model at its prior: Ê⁺ at raw query rows (p, n on the side the light is wanted, albedo; 9
+/// floats a row) = prior_scale · prior_gain().   rows [n, 9] -> out [n]
+void prior_irradiance(const SceneFrame &frame, const float *rows, size_t n, Vec3f *out);
+
+}  // namespace ltm
