@@ -1,6 +1,7 @@
 // cli.cpp: the command table, the options several commands share, and the only place that catches
 // exceptions.
 #include "cli.h"
+#include "delegate.h"
 
 #include <cstdlib>
 #include <iostream>
@@ -28,6 +29,12 @@ std::vector<Command> commands() {
                                   make_edit_command(), make_convert_command(), make_dataset_command()};
 #ifdef LTM_WITH_TORCH
     for (auto make : {make_train_command, make_export_command, make_eval_command, make_eval_directional_command}) table.push_back(make());
+#else
+    // Listed by --help; run_cli hands them to ltm-torch before parsing (delegate.h).
+    for (const auto &[name, help] : {std::pair{"train", k_train_help}, std::pair{"export", k_export_help}, std::pair{"eval", k_eval_help},
+                                     std::pair{"eval-directional", k_eval_directional_help}})
+        table.push_back({name, std::string(help) + " [libtorch: ltm-torch]", [](CLI::App &sub) { sub.allow_extras(); },
+                         [name = std::string(name)](const CommonOptions &) { throw NeedsLibtorch("ltm " + name + " needs libtorch"); }});
 #endif
     return table;
 }
@@ -55,7 +62,7 @@ std::string version_string() {
 #ifdef LTM_WITH_TORCH
     v += ", " + torch_runtime_description();
 #else
-    v += ", built without libtorch";
+    v += ", built without libtorch (weights at their prior render; the rest needs ltm-torch)";
 #endif
     return v;
 }
@@ -64,6 +71,17 @@ std::string version_string() {
 
 int run_cli(const std::vector<std::string> &args) {
     configure_process();
+#ifndef LTM_WITH_TORCH
+    // A program without libtorch hands the libtorch commands, and --version (which names the
+    // libtorch in use), to ltm-torch beside it (delegate.h); the exec returns only if it cannot.
+    if (!args.empty() && (is_libtorch_command(args[0]) || args[0] == "--version")) {
+        const std::string why = exec_libtorch_program(args);
+        if (args[0] != "--version") {
+            std::cerr << "ltm " << args[0] << ": error: the command needs libtorch: " << why << "\n";
+            return 1;
+        }
+    }
+#endif
     CLI::App app("ltm: generalizable neural global illumination (light transport 3D embedding)", "ltm");
     app.require_subcommand(1);
     app.set_version_flag("--version", version_string());
@@ -104,6 +122,11 @@ int run_cli(const std::vector<std::string> &args) {
 #endif
             table[i].run(c);
             return 0;
+        } catch (const NeedsLibtorch &e) {
+            // Found before anything was written (delegate.h): ltm-torch runs the whole command line.
+            const std::string why = exec_libtorch_program(args);
+            std::cerr << "ltm " << subs[i]->get_name() << ": error: " << e.what() << ": " << why << "\n";
+            return 1;
         } catch (const std::exception &e) {
             // ltm::Error is bad input; anything else (std::bad_alloc, logic_error) is reported the
             // same way: one line, exit 1, and the command's atomic writers left nothing behind.

@@ -4,10 +4,12 @@
 // the same vertices instead, for comparison.
 #include <chrono>
 #include <filesystem>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "delegate.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/image.h"
 #include "ltm/core/log.h"
@@ -17,6 +19,7 @@
 #include "ltm/render/gi_bake.h"
 #include "ltm/render/path_tracer.h"
 #include "ltm/scene/scene_loader.h"
+#include "ltm/infer/prior_model.h"   // torch-free: weights at their prior
 #if LTM_WITH_TORCH
 #include "ltm/infer/neural_renderer.h"
 #endif
@@ -93,12 +96,31 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         const IrradianceImages ir = irradiance_images(pt, gb, a.spp, /*with_indirect=*/true);
         direct = column(ir.direct), indirect = column(ir.indirect);
     } else {
+        // Weights at their prior bake without libtorch (infer/prior_model.h): the same numbers.
+        PriorModel pm = load_prior_model(a.model);
 #if LTM_WITH_TORCH
-        LoadedModel m = load_model(a.model);
-        if (apply_point_options(m.model, a.scene_points, a.prior_theta, a.prior_rays) == k_scene_points_auto)
-            set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
-        const EncodedScene enc = encode_scene(m.model, accel, common.seed);
-        indirect = predict_gbuffer(m.model, enc, gb);
+        std::optional<LoadedModel> m;
+        if (!pm.silenced) m = load_model(a.model);
+        ModelConfig &cfg = m ? m->model->cfg : pm.cfg;
+#else
+        if (!pm.silenced)   // ltm-torch runs the command line (delegate.h)
+            throw NeedsLibtorch(a.model + ": the network of these weights is active, and running it needs libtorch");
+        ModelConfig &cfg = pm.cfg;
+#endif
+        if (apply_point_options(cfg, a.scene_points, a.prior_theta, a.prior_rays) == k_scene_points_auto)
+            set_auto_scene_points(cfg, scene, a.prior_theta >= 0);
+        bool decoded = false;
+#if LTM_WITH_TORCH
+        if (m) {
+            const EncodedScene enc = encode_scene(m->model, accel, common.seed);
+            indirect = predict_gbuffer(m->model, enc, gb);
+            decoded = true;
+        }
+#endif
+        if (!decoded) {
+            const PriorScene ps = encode_prior_scene(cfg, accel, common.seed);
+            indirect = decode_gbuffer(prior_decoder(std::make_shared<const SceneFrame>(ps.frame)), gb);
+        }
         // Direct light as `ltm render --method neural` computes it (ratio estimator when every
         // emitter is constant, else the path tracer's MIS).
         if (RatioDirectLight::supports(scene)) {
@@ -107,9 +129,6 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         } else {
             direct = column(irradiance_images(pt, gb, a.direct_spp, /*with_indirect=*/false).direct);
         }
-#else
-        LTM_THROW("--method neural: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
-#endif
     }
     compose_bake(meshes, direct, indirect);
     write_bake_glb(a.output, scene, meshes, a.exposure, "ltm bake-gi (" + a.method + ")");

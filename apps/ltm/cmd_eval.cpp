@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "delegate.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/eval/eval_setup.h"
@@ -178,7 +179,7 @@ void run(const EvalArgs &a, const CommonOptions &common) {
 
 Command make_eval_command() {
     return make_command(
-        "eval", "Evaluate the model against path tracing on held-out scenes (report.json, table.md, grids)",
+        "eval", k_eval_help,
         declare, run);
 }
 

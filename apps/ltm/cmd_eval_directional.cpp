@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "delegate.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/eval/directional_eval.h"
@@ -56,7 +57,7 @@ void run(const EvalDirectionalArgs &a, const CommonOptions &) {
 
 Command make_eval_directional_command() {
     return make_command(
-        "eval-directional", "Evaluate a directional head on held-out records with L_in bins, beside spherical-harmonics fits",
+        "eval-directional", k_eval_directional_help,
         declare, run);
 }
 

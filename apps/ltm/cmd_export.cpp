@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "delegate.h"
 #include "ltm/core/json_util.h"
 #include "ltm/core/log.h"
 #include "ltm/nn/checkpoint.h"
@@ -69,7 +70,7 @@ void run(const ExportArgs &a, const CommonOptions &) {
 
 Command make_export_command() {
     return make_command(
-        "export", "Export a checkpoint's (or convert a weights file's) weights to safetensors, config in the metadata",
+        "export", k_export_help,
         declare, run);
 }
 

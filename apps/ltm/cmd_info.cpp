@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "delegate.h"
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
 #include "ltm/points/safetensors.h"
@@ -59,7 +60,7 @@ void run(const InfoArgs &a, const CommonOptions &) {
                   << "\nmodel      " << st.model_config << "\ntraining   " << st.train_config << "\n";
         return;
 #else
-        LTM_THROW(a.input, ": checkpoints need a build with libtorch (LTM_WITH_TORCH=ON)");
+        throw NeedsLibtorch(a.input + ": checkpoints are libtorch archives");
 #endif
     }
     ValidateOptions opt;

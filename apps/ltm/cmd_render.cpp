@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "delegate.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
@@ -91,7 +92,6 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     const std::string prefix = strip_image_extension(a.output);
     check_output_directory(prefix + ".exr");   // before the render, not after it
     if (a.method == "neural") {
-    #if LTM_WITH_TORCH
         if (a.model.empty()) LTM_THROW("--method neural needs --model <weights.safetensors>");
         if (a.direct_spp <= 0) LTM_THROW("--direct-spp ", a.direct_spp, ": must be > 0");
         run_neural_render(
@@ -100,13 +100,10 @@ void run(const RenderArgs &a, const CommonOptions &common) {
              a.gi_levels, a.gi_contrast},
             common);
         return;
-    #else
-        LTM_THROW("--method neural: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
-    #endif
     }
     if (a.method == "guided" && a.model.empty()) LTM_THROW("--method guided needs --model <weights with a directional head>");
     #if !LTM_WITH_TORCH
-    if (a.method == "guided") LTM_THROW("--method guided: this build has no libtorch (configure with -DLTM_WITH_TORCH=ON)");
+    if (a.method == "guided") throw NeedsLibtorch("--method guided reads the model's directional head, which needs libtorch");
     #endif
     if (!a.model.empty() && a.method != "guided") LTM_THROW("--model is only used with --method neural or guided");
     if (a.scene_points != 0 && a.method == "pathtrace") LTM_THROW("--scene-points is only used with --method neural or guided");

@@ -1,13 +1,20 @@
-// cmd_render_neural.cpp: the libtorch half of `ltm render --method neural`.
+// cmd_render_neural.cpp: `ltm render --method neural`. Weights whose network is silenced (the
+// shipped model: its prior) render without libtorch (infer/prior_model.h), in any build; an active
+// network, or its directional head, through the tensor model (libtorch builds).
 #include <chrono>
+#include <optional>
 
 #include "cli.h"
+#include "delegate.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
 #include "ltm/core/startup.h"
 #include "ltm/core/tonemap.h"
+#include "ltm/infer/prior_model.h"
+#if LTM_WITH_TORCH
 #include "ltm/infer/neural_renderer.h"
+#endif
 #include "ltm/procgen/training_range.h"
 #include "ltm/scene/scene_loader.h"
 
@@ -21,24 +28,36 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     // What a user waits for besides the render itself (issue #31: the time before the first pixel).
     const double before_command = process_age_seconds();   // exec, libraries, static initialisers, CLI
     auto t = Clock::now();
-    LoadedModel m = load_model(a.model);
-    const double load_model_s = seconds_since(t);
-    const int scene_points = apply_point_options(m.model, a.scene_points, a.prior_theta, a.prior_rays);   // its bounds fail before the scene loads
+    PriorModel pm = load_prior_model(a.model);   // the config; whether its network is silenced
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
-    if (glossy == GlossyShading::head && !m.model->directional)
+    // The prior alone renders it exactly (the same numbers as the tensor model: NeuralRenderer tests).
+    const bool at_prior = pm.silenced && glossy != GlossyShading::head;
+#if LTM_WITH_TORCH
+    std::optional<LoadedModel> m;
+    if (!at_prior) m = load_model(a.model);
+    ModelConfig &cfg = m ? m->model->cfg : pm.cfg;
+#else
+    if (!at_prior)   // before the scene loads: ltm-torch runs the command line (delegate.h)
+        throw NeedsLibtorch(a.model + (pm.silenced ? ": --glossy head needs the directional head, a network, and so libtorch"
+                                                   : ": the network of these weights is active, and running it needs libtorch"));
+    ModelConfig &cfg = pm.cfg;
+#endif
+    const double load_model_s = seconds_since(t);
+    const int scene_points = apply_point_options(cfg, a.scene_points, a.prior_theta, a.prior_rays);   // its bounds fail before the scene loads
+    if (glossy == GlossyShading::head && !cfg.directional)
         LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");
     t = Clock::now();
     const Scene scene = load_scene(a.scene);
     const double load_scene_s = seconds_since(t);
-    if (scene_points == k_scene_points_auto) set_auto_scene_points(m.model, scene, a.prior_theta >= 0);
+    if (scene_points == k_scene_points_auto) set_auto_scene_points(cfg, scene, a.prior_theta >= 0);
     t = Clock::now();
-    for (const auto &w : scene_range_warnings(scene, m.model->cfg.physics.length_scale)) log_warn(a.scene, ": ", w);
+    for (const auto &w : scene_range_warnings(scene, cfg.physics.length_scale)) log_warn(a.scene, ": ", w);
     const Camera cam = choose_camera(scene, a.camera, a.width, a.height, a.scene);
     const EmbreeAccel accel(scene);
     check_camera(accel, cam, a.scene);
-    PathTracerConfig cfg;
-    cfg.seed = common.seed;
-    const PathTracer pt(accel, cfg);
+    PathTracerConfig pcfg;
+    pcfg.seed = common.seed;
+    const PathTracer pt(accel, pcfg);
     const double accel_s = seconds_since(t);
     NeuralRenderOptions opt;
     opt.direct_spp = a.direct_spp, opt.direct = parse_direct_estimator(a.direct_estimator);
@@ -48,7 +67,11 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     opt.glossy_samples = a.glossy_samples;
     opt.glossy = glossy;
     opt.bounce = parse_bounce_irradiance(a.bounce);
-    const NeuralRender r = render_neural(m.model, pt, cam, opt);
+#if LTM_WITH_TORCH
+    const NeuralRender r = m ? render_neural(m->model, pt, cam, opt) : render_prior(cfg, pt, cam, opt);
+#else
+    const NeuralRender r = render_prior(cfg, pt, cam, opt);
+#endif
     if (r.n_conductor > 0 && r.glossy == GlossyShading::diffuse)
         log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (--glossy diffuse)");
     else if (r.n_conductor > 0)
@@ -63,6 +86,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     const auto &rt = r.timings;
     OrderedJson j = {{"scene", a.scene},
                      {"model", a.model},
+                     {"network", at_prior ? "silenced: the prior alone, without libtorch" : "active"},
                      {"width", cam.width},
                      {"height", cam.height},
                      {"queries", r.n_queries},

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
+#include "delegate.h"
 #include "rank_launcher.h"
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
@@ -159,7 +160,7 @@ void run(const TrainArgs &a, const CommonOptions &common) {
 
 Command make_train_command() {
     return make_command(
-        "train", "Train the light transport model on a dataset (checkpoints, validation, exact resume)",
+        "train", k_train_help,
         declare, run);
 }
 

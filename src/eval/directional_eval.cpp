@@ -11,6 +11,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/core/rng.h"
 #include "ltm/data/dataset.h"
+#include "ltm/infer/neural_renderer.h"
 #include "ltm/infer/traced_bounce.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/points/scene_record.h"

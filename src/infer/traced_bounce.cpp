@@ -9,7 +9,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/core/parallel.h"
 #include "ltm/core/rng.h"
-#include "ltm/nn/point_tensor.h"
+#include "ltm/points/point_set.h"
 #include "ltm/render/interaction.h"
 #include "ltm/transport/prior_hierarchy.h"
 
@@ -19,21 +19,6 @@ DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectL
     if (spp < 1) LTM_THROW("traced bounce: light samples must be >= 1, got ", spp);
     if (ratio) return [ratio, spp](Vec3f p, Vec3f n, uint64_t key) { return ratio->irradiance(p, n, key, spp); };
     return [&pt, spp](Vec3f p, Vec3f n, uint64_t key) { return pt.irradiance(p, n, key, spp, /*with_indirect=*/false).direct; };
-}
-
-// By value: a module holder and tensors are cheap to copy, and the decoder may outlive its arguments.
-IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents) {
-    return [model, latents](const torch::Tensor &q) mutable {
-        torch::NoGradGuard no_grad;
-        return model->predict_irradiance(q, latents, 16384);
-    };
-}
-
-IrradianceDecoder model_prior_irradiance(const SceneLatents &latents) {
-    return [latents](const torch::Tensor &q) {
-        torch::NoGradGuard no_grad;
-        return prior_irradiance(q, latents.norm);
-    };
 }
 
 NodeIrradiance decode_node_irradiance(const IrradianceDecoder &decode, const PointSet &points, float spacing) {
@@ -48,9 +33,9 @@ NodeIrradiance decode_node_irradiance(const IrradianceDecoder &decode, const Poi
     for (size_t k = 0; k < m; ++k) write_query_row(&ordered[k * 9], position[order[k]], normal[order[k]], points.vec3(order[k], 6));
     NodeIrradiance nodes;
     nodes.interpolator = PointInterpolator(std::move(position), std::move(normal), spacing);
-    const auto e = decode(rows_tensor(ordered, 9)).to(torch::kCPU, torch::kFloat32).contiguous();
-    TORCH_CHECK(e.sizes() == torch::IntArrayRef({int64_t(m), 3}), "node irradiance: the decoder returned ", e.sizes());
-    const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
+    const std::vector<Vec3f> e = decode(ordered);
+    if (e.size() != m) LTM_THROW("node irradiance: the decoder returned ", e.size(), " values for ", m, " points");
+    const Vec3f *ep = e.data();
     nodes.irradiance.assign(m, Vec3f(0.f));
     for (size_t k = 0; k < m; ++k) nodes.irradiance[order[k]] = ep[k];
     nodes.seconds = seconds_since(t);
@@ -110,9 +95,9 @@ std::vector<Vec3f> traced_bounce_radiance(const IrradianceDecoder &decode, const
     std::vector<float> q;
     for (uint32_t k : order)
         at.push_back(hits[k]), q.insert(q.end(), rows.begin() + std::ptrdiff_t(size_t(k) * 9), rows.begin() + std::ptrdiff_t(size_t(k) * 9 + 9));
-    const auto e = decode(rows_tensor(q, 9)).to(torch::kCPU, torch::kFloat32).contiguous();
-    TORCH_CHECK(e.sizes() == torch::IntArrayRef({int64_t(at.size()), 3}), "traced bounce: the decoder returned ", e.sizes());
-    const Vec3f *ep = reinterpret_cast<const Vec3f *>(e.data_ptr<float>());
+    const std::vector<Vec3f> e = decode(q);
+    if (e.size() != at.size()) LTM_THROW("traced bounce: the decoder returned ", e.size(), " values for ", at.size(), " hits");
+    const Vec3f *ep = e.data();
     for (size_t k = 0; k < at.size(); ++k) {
         const float *row = &q[k * 9];
         radiance[at[k]] += Vec3f(row[6], row[7], row[8]) * k_inv_pi * ep[k];

@@ -70,21 +70,9 @@ void load_state(LtmModel &model, const std::map<std::string, torch::Tensor> &ten
 }
 
 LtmModel load_weights(const std::string &path, std::map<std::string, std::string> *metadata) {
-    const SafetensorsFile f = read_safetensors(path);
-    auto meta = [&](const std::string &k) {
-        const auto it = f.metadata.find(k);
-        if (it == f.metadata.end()) LTM_THROW(path, ": not ltm weights (metadata '", k, "' missing)");
-        return it->second;
-    };
-    if (meta("format") != "ltm-weights") LTM_THROW(path, ": not ltm weights (format '", meta("format"), "')");
-    if (meta("format_version") != std::to_string(k_weights_format_version))
-        LTM_THROW(path, ": weights format version ", meta("format_version"), ", this build reads ", k_weights_format_version);
-    if (meta("arch_version") != std::to_string(k_arch_version))
-        LTM_THROW(path, ": architecture version ", meta("arch_version"), ", this build has ", k_arch_version);
-    const ModelConfig cfg = ModelConfig::from_json(parse_json(meta("config"), path + " (config)"), path + " (config)");
-    for (const auto &[name, t] : f.tensors)   // F32 as trained, or F16 (`ltm export --half`, for shipping)
-        if (t.dtype != "F32" && t.dtype != "F16")
-            LTM_THROW(path, ": tensor '", name, "' has dtype ", t.dtype, " (weights are F32 or F16)");
+    const WeightsFile w = read_weights_file(path);   // the format, versions, config and dtypes checked
+    const SafetensorsFile &f = w.file;
+    const ModelConfig &cfg = w.config;
     LtmModel model(cfg);
     // Each tensor goes from the mapped file's bytes straight into the parameter the model already
     // holds (F16 widened on the way; computation is always F32): no second set of tensors to fault in.
@@ -93,9 +81,9 @@ LtmModel load_weights(const std::string &path, std::map<std::string, std::string
         [&](const std::string &name, torch::Tensor &dst, const StTensor &t) {
             const std::string where = path + ": tensor '" + name + "'";
             if (dst.is_contiguous() && dst.scalar_type() == torch::kFloat32) return t.copy_f32(dst.data_ptr<float>(), where);
-            auto w = torch::empty(t.shape, torch::kFloat32);
-            t.copy_f32(w.data_ptr<float>(), where);
-            dst.copy_(w);
+            auto wide = torch::empty(t.shape, torch::kFloat32);
+            t.copy_f32(wide.data_ptr<float>(), where);
+            dst.copy_(wide);
         });
     if (metadata) *metadata = f.metadata;
     return model;

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "ltm/core/exr.h"
 #include "ltm/core/file_util.h"
+#include "ltm/points/safetensors.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/mesh_builder.h"
 #include "ltm/scene/scene_json.h"
@@ -173,6 +174,40 @@ TEST(BadInput, RenderRejectsBadCamerasAndSettings) {
     expect_error(dir, n, {"render", dir.path("away.json"), "-o", dir.path("r")}, "render", "looks at nothing");
     expect_error(dir, n, {"render", "builtin:cornell-box", "--spp", "0", "-o", dir.path("r")}, "render", "--spp 0");
     expect_error(dir, n, {"render", "builtin:cornell-box", "--method", "neural", "-o", dir.path("r")}, "render", "neural");
+}
+
+// The shipped weights are their prior (the decoder's output layer zero): they render in any build,
+// without libtorch. The same file with that layer set going is an active network: a build without
+// libtorch says in one line that running it needs libtorch, and writes nothing; a libtorch build
+// renders it through the tensor model.
+TEST(BadInput, WeightsAtTheirPriorRenderInAnyBuildAnActiveNetworkNeedsLibtorch) {
+    test::TempDir dir;
+    const std::string shipped = test::source_path("models/ltm-cpu.safetensors");
+    const Result r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", shipped, "--scene-points", "2048", "--width", "12",
+                          "--height", "12", "-o", dir.path("prior"), "--quiet"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(read_file(dir.path("prior.timings.json")).find("\"network\": \"silenced"), std::string::npos);
+    SafetensorsFile w = read_safetensors(shipped);
+    std::string last;
+    for (const auto &[name, t] : w.tensors)
+        if (name.rfind("decoder.out.", 0) == 0 && name.size() > 7 && name.substr(name.size() - 7) == ".weight" && name > last) last = name;
+    ASSERT_FALSE(last.empty());
+    StTensor &out = w.tensors.at(last);
+    ASSERT_TRUE(out.dtype == "F16" || out.dtype == "F32") << out.dtype;
+    if (out.dtype == "F16")
+        out.data[1] = char(0x3c);   // 1.0 in binary16 (0x3c00, little-endian) as its first weight
+    else
+        out.data[3] = char(0x3f), out.data[2] = char(0x80);   // 1.0f (0x3f800000)
+    write_safetensors(dir.path("active.safetensors"), w);
+    const std::vector<std::string> args = {"render", "builtin:cornell-box", "--method", "neural", "--model", dir.path("active.safetensors"),
+                                           "--scene-points", "2048", "--width", "12", "--height", "12", "-o", dir.path("active"), "--quiet"};
+#ifdef LTM_WITH_TORCH
+    const Result a = run(args);
+    ASSERT_EQ(a.code, 0) << a.err;
+    EXPECT_NE(read_file(dir.path("active.timings.json")).find("\"network\": \"active\""), std::string::npos);
+#else
+    expect_error(dir, dir.count(), args, "render", "needs libtorch");
+#endif
 }
 
 #ifdef LTM_WITH_TORCH

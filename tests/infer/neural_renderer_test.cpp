@@ -8,6 +8,7 @@
 #include "ltm/core/error.h"
 #include "ltm/core/rng.h"
 #include "ltm/infer/neural_renderer.h"
+#include "ltm/infer/prior_model.h"
 #include "ltm/infer/traced_bounce.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
@@ -184,6 +185,58 @@ TEST(NeuralRenderer, PriorOnlyRenderIsTheModelsOwnPrior) {
     EXPECT_NO_THROW(render_neural(model, room.pt, cam, opt));
 }
 
+// A model at its prior (the decoder's output layer zeroed, as the shipped model) renders without
+// libtorch (infer/prior_model.h) exactly as the tensor model does: the same image to the bit, pixels,
+// Ê⁺ and direct light, with the prior dense or through its tree, every pixel decoded or coarse to
+// fine, and conductors by the traced bounce (Ê⁺ at its hits decoded, then from the scene points). Its
+// weights file says the network is silenced; the random network's does not.
+TEST(NeuralRenderer, PriorRenderWithoutTorchIsTheTensorModelAtItsPrior) {
+    const Scene scene = room_with_metal();
+    const EmbreeAccel accel(scene);
+    const PathTracer pt(accel, PathTracerConfig{});
+    torch::manual_seed(5);
+    LtmModel model(ModelConfig::from_file(test::source_path("configs/model/tiny-pi.json")));
+    {
+        torch::NoGradGuard g;
+        for (auto &p : model->parameters()) p.add_(torch::randn_like(p) * 0.2);
+    }
+    model->eval();
+    test::TempDir dir;
+    save_weights(dir.path("active.safetensors"), model);
+    EXPECT_FALSE(load_prior_model(dir.path("active.safetensors")).silenced);
+    model->decoder->start_at_prior();
+    save_weights(dir.path("prior.safetensors"), model, {}, /*half=*/true);
+    const PriorModel pm = load_prior_model(dir.path("prior.safetensors"));
+    EXPECT_TRUE(pm.silenced);
+    EXPECT_EQ(pm.cfg.to_json().dump(), model->cfg.to_json().dump());
+    const Camera cam = Room::view(24);
+    int conductors = 0;
+    struct Case {
+        float theta;
+        int levels;
+        BounceIrradiance bounce;
+    };
+    for (const Case c : {Case{0.f, 1, BounceIrradiance::decode}, Case{0.5f, 2, BounceIrradiance::nodes}}) {
+        set_prior_theta(model, c.theta);
+        NeuralRenderOptions opt;
+        opt.direct_spp = 4, opt.seed = 3, opt.glossy = GlossyShading::trace, opt.glossy_samples = 4, opt.bounce = c.bounce;
+        opt.gi.stride = c.levels, opt.gi.levels = c.levels;
+        const NeuralRender a = render_neural(model, pt, cam, opt);
+        const NeuralRender b = render_prior(model->cfg, pt, cam, opt);
+        ASSERT_EQ(a.n_decoded, b.n_decoded);
+        conductors = int(a.n_conductor);
+        int same = 0;
+        for (size_t i = 0; i < a.image.color.pixels.size(); ++i)
+            same += a.image.color.pixels[i] == b.image.color.pixels[i] && a.image.irradiance.pixels[i] == b.image.irradiance.pixels[i] &&
+                    a.image.direct.pixels[i] == b.image.direct.pixels[i];
+        EXPECT_EQ(same, int(a.image.color.pixels.size())) << "θ " << c.theta << ", " << c.levels << " levels";
+    }
+    EXPECT_GT(conductors, 20) << "conductor pixels in view";
+    NeuralRenderOptions head;
+    head.glossy = GlossyShading::head;
+    EXPECT_THROW(render_prior(model->cfg, pt, cam, head), Error);
+}
+
 // The node field holds each scene point's own decoded value: a decoder that answers each query
 // row with its position gives every point its own position back (the group_order permutation
 // and its inverse), and a point set without the query columns is refused.
@@ -195,13 +248,21 @@ TEST(NeuralRenderer, NodeIrradianceIsEachPointsOwnDecode) {
         points.set_vec3(j, 3, normalize(Vec3f(rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f)));
         points.set_vec3(j, 6, Vec3f(0.5f));
     }
-    const IrradianceDecoder echo = [](const torch::Tensor &q) { return q.slice(1, 0, 3).clone(); };
+    const IrradianceDecoder echo = [](const std::vector<float> &q) {
+        std::vector<Vec3f> out(q.size() / 9);
+        for (size_t i = 0; i < out.size(); ++i) out[i] = Vec3f(q[i * 9], q[i * 9 + 1], q[i * 9 + 2]);
+        return out;
+    };
     const NodeIrradiance nodes = decode_node_irradiance(echo, points, 0.3f);
     ASSERT_EQ(nodes.irradiance.size(), points.size());
     for (size_t j = 0; j < points.size(); ++j) EXPECT_EQ(nodes.irradiance[j], points.vec3(j, 0)) << "point " << j;
     EXPECT_EQ(nodes.interpolator.size(), points.size());
     EXPECT_THROW(decode_node_irradiance(echo, PointSet({"x", "y", "z"}, 3), 0.3f), Error);
-    const IrradianceDecoder wrong = [](const torch::Tensor &q) { return q.slice(0, 1).slice(1, 0, 3).clone(); };
+    const IrradianceDecoder wrong = [&](const std::vector<float> &q) {
+        std::vector<Vec3f> out = echo(q);
+        out.pop_back();
+        return out;
+    };
     EXPECT_ANY_THROW(decode_node_irradiance(wrong, points, 0.3f)) << "a decoder answering the wrong number of rows";
 }
 

@@ -1,6 +1,6 @@
 // neural_renderer.h: images from the light transport model (paper §5, ARCHITECTURE.md §7).
-// Encode the scene once (M scene points → latents), G-buffer from primary rays, decode Ê⁺ at every
-// hit in chunks, E_direct by shadow rays, compose Le + albedo/π·(E_direct + Ê⁺).
+// Encode the scene once (M scene points → latents), then infer/field_render.h's render with the
+// model as its Ê⁺ field: G-buffer, Ê⁺ decoded in chunks, E_direct by shadow rays, compose.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +11,8 @@
 #include "ltm/points/point_set.h"
 #include "ltm/render/gbuffer.h"
 #include "ltm/render/gi_upsample.h"
+#include "ltm/infer/field_render.h"
+#include "ltm/infer/prior_model.h"
 
 namespace ltm {
 
@@ -24,40 +26,16 @@ struct LoadedModel {
 /// or foreign file.
 LoadedModel load_model(const std::string &path);
 
-/// Bounds of set_scene_points(): the transport prior's dense solve holds ~4·M² bytes of transfer
-/// (transport/transport_prior.h; measured peak 1.0 GB at M = 16 384), so M stops at 32 768 (~4 GiB);
-/// below 256 the decoder's neighbourhoods and the prior's clusters have too few points.
-/// Through the prior's cluster tree (physics.prior_theta > 0) memory is linear in M (~1 KB per scene
-/// point in all, measured in docs/performance.md), so the bound is k_max_scene_points_tree.
-inline constexpr int64_t k_min_scene_points = 256, k_max_scene_points = 32768, k_max_scene_points_tree = 262144;
-/// Makes the model sample n scene points instead of the M it was trained with (`--scene-points`):
-/// the encoder and the prior adapt to any count (they measure the points' spacing), so n only trades
-/// time and memory for detail. Throws a one-line error naming the bound, before any allocation, if n is
-/// outside [k_min_scene_points, k_max_scene_points].
-void set_scene_points(LtmModel &model, int64_t n);
-/// Makes the model's transport prior go through its cluster tree with opening bound theta (0: the
-/// dense rows; `--prior-theta`, transport/prior_hierarchy.h). Call before set_scene_points (its bound
-/// depends on it). Throws a one-line error for theta outside [0, 1] or a model without the transport prior.
-void set_prior_theta(LtmModel &model, double theta);
-/// `--scene-points auto`: set_scene_points(auto_scene_points(scene)) (render/scene_points.h) and,
-/// unless the tree's θ was given (theta_given), the prior through its tree at θ 0.5 when that M is
-/// above the model's (faster and ~1/3 of the memory there, measured). Logs what it chose. Call after
-/// set_prior_theta. (The CLI holds "auto" as k_scene_points_auto.)
-inline constexpr int64_t k_scene_points_auto = -1;
-void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given);
-/// A command's `--prior-theta` (prior_theta ≥ 0; < 0: not given) and `--scene-points` (`given`: > 0 a
-/// count, k_scene_points_auto, 0 not given) on a loaded model: θ, then an explicit count (its bounds
-/// fail here, before any scene loads). Returns the count the command runs with: `given` when the user
-/// gave one, else k_scene_points_auto for a model whose config asks for it
-/// (ModelConfig::auto_scene_points), else 0 (the model's own M). On k_scene_points_auto the caller
-/// calls set_auto_scene_points once the scene is loaded (eval: EvalModel::enable_auto_scene_points).
-/// prior_rays (`--prior-rays`): set_prior_rays first, so an explicit θ still overrides its 0.5; rays
-/// with θ 0 (the dense rows, which have no terms to test) are a one-line error here, before the scene loads.
-int apply_point_options(LtmModel &model, int given, double prior_theta, bool prior_rays = false);
-/// `--prior-rays`: the transport prior's visibility and closure by rays against the scene's meshes
-/// (physics.prior_rays), through its cluster tree (θ 0.5 unless the model already has a θ > 0).
-/// Throws a one-line error for a model without the transport prior.
-void set_prior_rays(LtmModel &model);
+/// The point and prior options of infer/prior_model.h on a loaded model's config.
+inline void set_scene_points(LtmModel &model, int64_t n) { set_scene_points(model->cfg, n); }
+inline void set_prior_theta(LtmModel &model, double theta) { set_prior_theta(model->cfg, theta); }
+inline void set_prior_rays(LtmModel &model) { set_prior_rays(model->cfg); }
+inline void set_auto_scene_points(LtmModel &model, const Scene &scene, bool theta_given) {
+    set_auto_scene_points(model->cfg, scene, theta_given);
+}
+inline int apply_point_options(LtmModel &model, int given, double prior_theta, bool prior_rays = false) {
+    return apply_point_options(model->cfg, given, prior_theta, prior_rays);
+}
 
 struct EncodedScene {
     SceneLatents latents;
@@ -70,9 +48,16 @@ struct EncodedScene {
 /// same sampler, stream, enclosed-surface filter and exact emission scale) with `seed`, then
 /// FPS/kNN and the encoder. Independent of any camera.
 EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);
-/// The occlusion the model's prior traces against when physics.prior_rays is set (the scene's meshes,
-/// render/mesh_occlusion.h; `accel` must outlive the latents); null otherwise.
-std::shared_ptr<const SegmentOcclusion> prior_occlusion(const LtmModel &model, const EmbreeAccel &accel);
+/// The occlusion the model's prior traces against (infer/prior_model.h).
+inline std::shared_ptr<const SegmentOcclusion> prior_occlusion(const LtmModel &model, const EmbreeAccel &accel) {
+    return prior_occlusion(model->cfg, accel);
+}
+
+/// The model's irradiance head (LtmModelImpl::predict_irradiance, no autograd) as a decoder;
+/// `timings` (optional) accumulates its kNN and decode seconds.
+IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents, DecodeTimings *timings = nullptr);
+/// The model's prior alone, the network silenced (prior_irradiance): the `model-prior` rows.
+IrradianceDecoder model_prior_irradiance(const SceneLatents &latents);
 
 /// Ê⁺ at the G-buffer's hit points (normal on the side facing the eye).  -> one Vec3f per hit.
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,
@@ -90,84 +75,6 @@ std::vector<Vec3f> predict_gbuffer_upsampled(LtmModel &model, const EncodedScene
                                              PredictTimings *timings = nullptr, int64_t *n_decoded = nullptr,
                                              bool prior_only = false);
 
-enum class DirectEstimator {
-    mis,     ///< the path tracer's unbiased estimator (light + cosine samples, MIS)
-    ratio,   ///< analytic unshadowed E × stochastic visibility (render/direct_light.h)
-    automatic,   ///< ratio when every emitter has constant radiance, else mis
-};
-DirectEstimator parse_direct_estimator(const std::string &name);   ///< "mis" | "ratio" | "auto"
-const char *direct_estimator_name(DirectEstimator e);
-
-/// How a neural render shades conductor pixels. Every way but `diffuse` computes
-///   L = Le + L_direct + (1/K) Σ_k f cos / pdf · L⁺(p, ω_k),   ω_k ~ GGX (K = glossy_samples),
-/// L_direct by the path tracer's NEE + BSDF sampling with MIS (one scattering event), and differs
-/// in where L⁺ — the radiance arriving along ω_k, emitters seen directly excluded — comes from.
-enum class GlossyShading {
-    automatic,   ///< trace
-    /// One traced bounce: L⁺(ω_k) is the radiance leaving the surface y that ω_k hits towards p,
-    /// without y's emission: ρ(y)/π·(E_direct(y) + Ê⁺(y)) at a diffuse y (Ê⁺ from the irradiance
-    /// head, E_direct by the render's direct estimator), path traced at a conductor y, 0 on a
-    /// miss. Needs no directional head; resolves a GGX lobe as finely as the scene's geometry.
-    trace,
-    head,        ///< the directional head's L̂⁺(p, ω_k) (paper Fig. 11); needs a directional head
-    diffuse,     ///< as if diffuse: Le + ρ/π·(E_direct + Ê⁺) (what an irradiance-only model gives)
-};
-GlossyShading parse_glossy_shading(const std::string &name);   ///< "auto" | "trace" | "head" | "diffuse"
-const char *glossy_shading_name(GlossyShading g);
-
-/// Where GlossyShading::trace takes Ê⁺(y) at its bounce hits y. The two agree on conductor pixels
-/// within the prior's own noise (docs/results.md, session 26); `nodes` costs M decodes up front and
-/// ~1/50 of a decode a hit.
-enum class BounceIrradiance {
-    automatic,   ///< nodes where the bounce has at least k_bounce_nodes_per_point · M rays, else decode
-    /// Interpolated from Ê⁺ decoded once at the M scene points (NodeIrradiance; decoded where no
-    /// point lies on y's surface nearby).
-    nodes,
-    decode,   ///< decoded at every hit, as the G-buffer's pixels are (the reference for `nodes`)
-};
-/// Rays per scene point above which `automatic` interpolates: below it the M decodes at the points
-/// cost about what decoding each hit does.
-constexpr int64_t k_bounce_nodes_per_point = 2;
-BounceIrradiance parse_bounce_irradiance(const std::string &name);   ///< "auto" | "nodes" | "decode"
-const char *bounce_irradiance_name(BounceIrradiance b);
-
-struct NeuralTimings {
-    double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
-    double glossy = 0;   ///< conductor pixels (direct light + L⁺ by the GlossyShading used)
-    double prior_solve = 0;   ///< of encode: the transport prior's solve (the rest is the encoder, when it runs)
-    /// The model's own cost: everything but the G-buffer and direct light (which any renderer pays).
-    double model() const { return sample + geometry + encode + knn + decode; }
-    OrderedJson to_json() const;
-};
-
-struct NeuralRender {
-    RenderedImage image;   ///< irradiance AOV = Ê⁺, direct = E_direct
-    NeuralTimings timings;
-    int64_t n_queries = 0;   ///< pixels with a surface
-    int64_t n_decoded = 0;   ///< queries the decoder ran on (n_queries unless gi.stride > 1)
-    int64_t n_scene_points = 0, n_conductor = 0;
-    GlossyShading glossy = GlossyShading::diffuse;   ///< how conductor pixels were shaded (diffuse if none is seen)
-    int glossy_samples = 0;                          ///< GGX samples per conductor pixel used (0: none)
-    BounceIrradiance bounce = BounceIrradiance::decode;   ///< `trace`: how its hits' Ê⁺ was taken (nodes or decode)
-    DirectEstimator direct = DirectEstimator::mis;   ///< the estimator that was used
-};
-struct NeuralRenderOptions {
-    int direct_spp = 16;            ///< light samples per pixel for E_direct
-    DirectEstimator direct = DirectEstimator::automatic;
-    uint64_t seed = 0;              ///< scene-point sampling and direct-light streams
-    bool exclude_enclosed = true;   ///< scene points as in the dataset
-    GiUpsampleOptions gi{1};        ///< stride 1: Ê⁺ decoded at every pixel
-    /// Conductor pixels (GlossyShading): direct light by the path tracer's NEE + BSDF sampling
-    /// with MIS (direct_spp samples), the indirect part ∫ f L⁺ cos dω by glossy_samples GGX
-    /// samples (0: 64 traced, 16 through the head). `head` without a directional head throws.
-    /// With `trace`, each sample's hit gets ⌈direct_spp / glossy_samples⌉ light samples.
-    GlossyShading glossy = GlossyShading::automatic;
-    int glossy_samples = 0;
-    BounceIrradiance bounce = BounceIrradiance::automatic;   ///< `trace`: Ê⁺ at the bounce's hits
-    /// The model's own prior, the network silenced, wherever the render reads Ê⁺ (pixels and the
-    /// bounce's hits): `eval --radiance`'s model-prior rows. `head` throws (the head is a network).
-    bool prior_only = false;
-};
 /// The whole neural render of one view.
 NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);
 

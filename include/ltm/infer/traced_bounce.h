@@ -14,7 +14,6 @@
 #include <functional>
 #include <vector>
 
-#include "ltm/nn/ltm_model.h"
 #include "ltm/points/point_interpolation.h"
 #include "ltm/points/point_set.h"
 #include "ltm/render/direct_light.h"
@@ -30,12 +29,8 @@ using DirectIrradianceFn = std::function<Vec3f(Vec3f p, Vec3f n, uint64_t key)>;
 DirectIrradianceFn direct_irradiance_fn(const PathTracer &pt, const RatioDirectLight *ratio, int spp);
 
 /// Ê⁺ at query rows (p, n on the side the light is wanted, albedo), raw units: what the bounce
-/// reads at its diffuse hits.   query_points [n, 9] -> [n, 3] (W/m²)
-using IrradianceDecoder = std::function<torch::Tensor(const torch::Tensor &query_points)>;
-/// The model's irradiance head (LtmModelImpl::predict_irradiance, no autograd).
-IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents);
-/// The model's prior alone, the network silenced (prior_irradiance): the `model-prior` rows.
-IrradianceDecoder model_prior_irradiance(const SceneLatents &latents);
+/// reads at its diffuse hits.   rows [n, 9] (row-major) -> n values (W/m²)
+using IrradianceDecoder = std::function<std::vector<Vec3f>(const std::vector<float> &rows)>;
 
 /// Ê⁺ decoded once at the M scene points (each point its own query: p, n, albedo) for the bounce's
 /// hits to interpolate (PointInterpolator) instead of decoding each: a gather of the prior costs

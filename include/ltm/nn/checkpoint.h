@@ -10,11 +10,9 @@
 #include <torch/torch.h>
 
 #include "ltm/nn/ltm_model.h"
+#include "ltm/nn/weights_file.h"
 
 namespace ltm {
-
-inline constexpr int k_weights_format_version = 1;
-inline constexpr int k_arch_version = 1;   ///< bump when parameter names or shapes change meaning
 
 /// Writes every parameter and buffer (F32 CPU copies, or F16 with `half`: half the size, for
 /// shipping; loading converts back to F32) plus metadata: format, format_version, arch_version,

@@ -1,0 +1,30 @@
+// weights_file.h: an `ltm export` weights file read without libtorch — its format checks, its model
+// config, and whether its network is silenced. The tensor model's load_weights (nn/checkpoint.h)
+// reads through it; a render of a model at its prior (infer/prior_model.h) needs nothing more.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "ltm/nn/model_config.h"
+#include "ltm/points/safetensors.h"
+
+namespace ltm {
+
+inline constexpr int k_weights_format_version = 1;
+inline constexpr int k_arch_version = 1;   ///< bump when parameter names or shapes change meaning
+
+struct WeightsFile {
+    SafetensorsFile file;   ///< tensors (F32 or F16) and metadata
+    ModelConfig config;     ///< from the metadata's "config"
+};
+/// Reads and checks: metadata format "ltm-weights", this build's format and architecture versions,
+/// a valid config, tensors of F32 or F16. Throws "path: ..." naming what is wrong.
+WeightsFile read_weights_file(const std::string &path);
+
+/// True when the decoder's output layer (the last "decoder.out.<i>" Linear) is exactly zero: the
+/// network is silenced and the model is its closed-form prior wherever it is asked
+/// (QueryDecoder::at_prior, --start-at-prior). False when the file has no such layer.
+bool network_silenced(const WeightsFile &w);
+
+}  // namespace ltm

@@ -1,0 +1,56 @@
+// weights_file.cpp: the metadata checks and the output layer's test, on the file's bytes.
+#include "ltm/nn/weights_file.h"
+
+#include <cstdlib>
+
+#include "ltm/core/error.h"
+#include "ltm/core/json_util.h"
+
+namespace ltm {
+
+WeightsFile read_weights_file(const std::string &path) {
+    WeightsFile w;
+    w.file = read_safetensors(path);
+    auto meta = [&](const std::string &k) {
+        const auto it = w.file.metadata.find(k);
+        if (it == w.file.metadata.end()) LTM_THROW(path, ": not ltm weights (metadata '", k, "' missing)");
+        return it->second;
+    };
+    if (meta("format") != "ltm-weights") LTM_THROW(path, ": not ltm weights (format '", meta("format"), "')");
+    if (meta("format_version") != std::to_string(k_weights_format_version))
+        LTM_THROW(path, ": weights format version ", meta("format_version"), ", this build reads ", k_weights_format_version);
+    if (meta("arch_version") != std::to_string(k_arch_version))
+        LTM_THROW(path, ": architecture version ", meta("arch_version"), ", this build has ", k_arch_version);
+    w.config = ModelConfig::from_json(parse_json(meta("config"), path + " (config)"), path + " (config)");
+    for (const auto &[name, t] : w.file.tensors)   // F32 as trained, or F16 (`ltm export --half`, for shipping)
+        if (t.dtype != "F32" && t.dtype != "F16")
+            LTM_THROW(path, ": tensor '", name, "' has dtype ", t.dtype, " (weights are F32 or F16)");
+    return w;
+}
+
+bool network_silenced(const WeightsFile &w) {
+    // The decoder's output MLP is "decoder.out.<i>.*"; its last Linear is the highest i with a weight.
+    const std::string prefix = "decoder.out.";
+    long last = -1;
+    for (const auto &[name, t] : w.file.tensors) {
+        if (name.rfind(prefix, 0) != 0) continue;
+        const std::string rest = name.substr(prefix.size());
+        const size_t dot = rest.find('.');
+        if (dot == std::string::npos || rest.substr(dot) != ".weight") continue;
+        char *end = nullptr;
+        const long i = std::strtol(rest.c_str(), &end, 10);
+        if (end == rest.c_str() + dot) last = std::max(last, i);
+    }
+    if (last < 0) return false;
+    for (const char *part : {".weight", ".bias"}) {
+        const auto it = w.file.tensors.find(prefix + std::to_string(last) + part);
+        if (it == w.file.tensors.end()) return false;
+        std::vector<float> v(it->second.numel());
+        it->second.copy_f32(v.data(), it->first);
+        for (const float x : v)
+            if (x != 0.f) return false;
+    }
+    return true;
+}
+
+}  // namespace ltm
