@@ -71,7 +71,9 @@ std::string version_string() {
 
 int run_cli(const std::vector<std::string> &args) {
     configure_process();
-#ifndef LTM_WITH_TORCH
+#ifdef LTM_WITH_TORCH
+    ::unsetenv(k_delegated_env);   // handed over (delegate.h): not inherited by what this runs
+#else
     // A program without libtorch hands the libtorch commands, and --version (which names the
     // libtorch in use), to ltm-torch beside it (delegate.h); the exec returns only if it cannot.
     if (!args.empty() && (is_libtorch_command(args[0]) || args[0] == "--version")) {

@@ -78,6 +78,16 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     const std::filesystem::path out(a.output);
     if (out.extension() != ".glb") LTM_THROW(a.output, ": the output must be a .glb file");
     check_output_directory(a.output);
+    if (!a.view.empty()) check_output_directory(a.view + ".png");
+    // The weights first: what needs libtorch is handed over before any work (delegate.h), and weights
+    // at their prior bake without it (infer/prior_model.h): the same numbers.
+    std::optional<PriorModel> pm;
+    if (a.method == "neural") {
+        pm = load_prior_model(a.model);
+#if !LTM_WITH_TORCH
+        if (!pm->silenced) throw NeedsLibtorch(a.model + ": the network of these weights is active, and running it needs libtorch");
+#endif
+    }
     const Scene scene = load_scene(a.scene);
     bool lit = false;
     for (const Material &m : scene.materials) lit |= m.is_emissive();
@@ -96,16 +106,12 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         const IrradianceImages ir = irradiance_images(pt, gb, a.spp, /*with_indirect=*/true);
         direct = column(ir.direct), indirect = column(ir.indirect);
     } else {
-        // Weights at their prior bake without libtorch (infer/prior_model.h): the same numbers.
-        PriorModel pm = load_prior_model(a.model);
 #if LTM_WITH_TORCH
         std::optional<LoadedModel> m;
-        if (!pm.silenced) m = load_model(a.model);
-        ModelConfig &cfg = m ? m->model->cfg : pm.cfg;
+        if (!pm->silenced) m = load_model(a.model);
+        ModelConfig &cfg = m ? m->model->cfg : pm->cfg;
 #else
-        if (!pm.silenced)   // ltm-torch runs the command line (delegate.h)
-            throw NeedsLibtorch(a.model + ": the network of these weights is active, and running it needs libtorch");
-        ModelConfig &cfg = pm.cfg;
+        ModelConfig &cfg = pm->cfg;
 #endif
         if (apply_point_options(cfg, a.scene_points, a.prior_theta, a.prior_rays) == k_scene_points_auto)
             set_auto_scene_points(cfg, scene, a.prior_theta >= 0);

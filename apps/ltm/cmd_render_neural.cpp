@@ -31,6 +31,8 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     PriorModel pm = load_prior_model(a.model);   // the config; whether its network is silenced
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
     // The prior alone renders it exactly (the same numbers as the tensor model: NeuralRenderer tests).
+    if (glossy == GlossyShading::head && !pm.cfg.directional)
+        LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");
     const bool at_prior = pm.silenced && glossy != GlossyShading::head;
 #if LTM_WITH_TORCH
     std::optional<LoadedModel> m;
@@ -44,8 +46,6 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
 #endif
     const double load_model_s = seconds_since(t);
     const int scene_points = apply_point_options(cfg, a.scene_points, a.prior_theta, a.prior_rays);   // its bounds fail before the scene loads
-    if (glossy == GlossyShading::head && !cfg.directional)
-        LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");
     t = Clock::now();
     const Scene scene = load_scene(a.scene);
     const double load_scene_s = seconds_since(t);

@@ -33,8 +33,12 @@ inline constexpr const char *k_eval_directional_help =
     "Evaluate a directional head on held-out records with L_in bins, beside spherical-harmonics fits";
 bool is_libtorch_command(const std::string &name);
 
+/// Set in the environment of the ltm-torch that `ltm` hands a command to: a program that finds it
+/// set does not hand anything on again (a loop of links), and ltm-torch clears it for its children.
+inline constexpr const char *k_delegated_env = "LTM_DELEGATED";
+
 /// Replaces this process by `ltm-torch` (beside /proc/self/exe) with `args`; returns only when that
-/// is impossible, with why (no such file, exec failed).
+/// is impossible, with why (no such file, the same program, exec failed).
 std::string exec_libtorch_program(const std::vector<std::string> &args);
 
 }  // namespace ltm::cli

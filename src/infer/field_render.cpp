@@ -208,6 +208,10 @@ NeuralRender render_with_gi(const GiSource &src, const PathTracer &pt, const Cam
     if (opt.direct_spp <= 0) LTM_THROW("neural render: direct-light samples per pixel must be > 0, got ", opt.direct_spp);
     if (opt.glossy_samples < 0) LTM_THROW("neural render: glossy samples per pixel must be >= 0 (0: automatic), got ", opt.glossy_samples);
     if (!src.irradiance || !src.points) LTM_THROW("neural render: no Ê⁺ field to render from");
+    if (opt.glossy == GlossyShading::head && opt.prior_only)
+        LTM_THROW("neural render: the prior alone has no directional head (use --glossy trace or diffuse)");
+    if (opt.glossy == GlossyShading::head && !src.head)
+        LTM_THROW("neural render: --glossy head needs a directional head, and these weights have none (use trace or diffuse)");
     NeuralRender r;
     const auto t0 = Clock::now();
     r.timings.sample = src.sample_seconds, r.timings.geometry = src.geometry_seconds, r.timings.encode = src.encode_seconds;
@@ -216,12 +220,8 @@ NeuralRender render_with_gi(const GiSource &src, const PathTracer &pt, const Cam
     const GBuffer gb = render_gbuffer(pt.accel(), camera);
     r.timings.gbuffer = seconds_since(t);
     const DecodeTimings before = src.timings ? *src.timings : DecodeTimings{};
-    t = Clock::now();
     const Image indirect = scatter_to_image(gb, decode_gbuffer_upsampled(src.irradiance, gb, camera, opt.gi, &r.n_decoded));
-    if (src.timings)
-        r.timings.knn = src.timings->knn - before.knn, r.timings.decode = src.timings->decode - before.decode;
-    else
-        r.timings.decode = seconds_since(t);
+    if (src.timings) r.timings.knn = src.timings->knn - before.knn, r.timings.decode = src.timings->decode - before.decode;
     r.direct = opt.direct;
     if (r.direct == DirectEstimator::automatic)
         r.direct = RatioDirectLight::supports(pt.accel().scene()) ? DirectEstimator::ratio : DirectEstimator::mis;
@@ -231,11 +231,7 @@ NeuralRender render_with_gi(const GiSource &src, const PathTracer &pt, const Cam
                                           : irradiance_images(pt, gb, opt.direct_spp, /*with_indirect=*/false);
     r.timings.direct = direct.seconds;
     r.image = compose_image(gb, direct.direct, indirect, &r.n_conductor);
-    GlossyShading glossy = opt.glossy == GlossyShading::automatic ? GlossyShading::trace : opt.glossy;
-    if (glossy == GlossyShading::head && !src.head)
-        LTM_THROW("neural render: --glossy head needs a directional head, and these weights have none (use trace or diffuse)");
-    if (glossy == GlossyShading::head && opt.prior_only)
-        LTM_THROW("neural render: the prior alone has no directional head (use --glossy trace or diffuse)");
+    const GlossyShading glossy = opt.glossy == GlossyShading::automatic ? GlossyShading::trace : opt.glossy;
     if (r.n_conductor > 0 && glossy != GlossyShading::diffuse) {
         // 0: 64 traced samples (cheap: a ray, light samples, one fused Ê⁺ decode each), 16 through the
         // head (a libtorch decode each, ~10× a traced sample).

@@ -75,11 +75,14 @@ IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents,
     };
 }
 
-IrradianceDecoder model_prior_irradiance(const SceneLatents &latents) {
-    return [latents](const std::vector<float> &rows) {
+IrradianceDecoder model_prior_irradiance(const SceneLatents &latents, DecodeTimings *timings) {
+    return [latents, timings](const std::vector<float> &rows) {
         const int64_t n = int64_t(rows.size() / 9);
         if (n == 0) return std::vector<Vec3f>{};
-        return rows_of(prior_irradiance(rows_tensor(rows, 9), latents.norm), n, "model prior");
+        const auto t = Clock::now();
+        std::vector<Vec3f> e = rows_of(prior_irradiance(rows_tensor(rows, 9), latents.norm), n, "model prior");
+        if (timings) timings->decode += seconds_since(t);
+        return e;
     };
 }
 
@@ -109,8 +112,8 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     const EncodedScene enc = encode_scene(model, pt.accel(), opt.seed, opt.exclude_enclosed);
     DecodeTimings timings;
     GiSource src;
-    src.irradiance = opt.prior_only ? model_prior_irradiance(enc.latents) : model_irradiance(model, enc.latents, &timings);
-    src.timings = opt.prior_only ? nullptr : &timings;
+    src.irradiance = opt.prior_only ? model_prior_irradiance(enc.latents, &timings) : model_irradiance(model, enc.latents, &timings);
+    src.timings = &timings;
     if (model->directional && !opt.prior_only)
         src.head = [&model, &enc](const std::vector<float> &rows, const std::vector<float> &dirs) {
             const int64_t n = int64_t(rows.size() / 9);

@@ -24,7 +24,7 @@ PriorModel load_prior_model(const std::string &path) {
     m.cfg = w.config;
     m.path = path;
     m.metadata = w.file.metadata;
-    m.silenced = network_silenced(w);
+    m.silenced = network_silenced(w, path);
     return m;
 }
 
@@ -105,10 +105,12 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
     return s;
 }
 
-IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame) {
-    return [frame](const std::vector<float> &rows) {
+IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame, DecodeTimings *timings) {
+    return [frame, timings](const std::vector<float> &rows) {
+        const auto t = Clock::now();
         std::vector<Vec3f> out(rows.size() / 9);
         prior_irradiance(*frame, rows.data(), out.size(), out.data());
+        if (timings) timings->decode += seconds_since(t);
         return out;
     };
 }
@@ -119,8 +121,10 @@ NeuralRender render_prior(const ModelConfig &cfg, const PathTracer &pt, const Ca
     const auto t0 = Clock::now();
     PriorScene scene = encode_prior_scene(cfg, pt.accel(), opt.seed, opt.exclude_enclosed);
     const auto frame = std::make_shared<const SceneFrame>(std::move(scene.frame));
+    DecodeTimings timings;
     GiSource src;
-    src.irradiance = prior_decoder(frame);
+    src.irradiance = prior_decoder(frame, &timings);
+    src.timings = &timings;
     src.points = &scene.points, src.spacing = scene.spacing, src.n_scene_points = scene.n_scene_points;
     src.sample_seconds = scene.sample_seconds, src.geometry_seconds = scene.geometry_seconds, src.encode_seconds = scene.encode_seconds;
     src.prior_solve_seconds = frame->solve_seconds;

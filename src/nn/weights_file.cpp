@@ -1,12 +1,21 @@
 // weights_file.cpp: the metadata checks and the output layer's test, on the file's bytes.
 #include "ltm/nn/weights_file.h"
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "ltm/core/error.h"
 #include "ltm/core/json_util.h"
 
 namespace ltm {
+
+namespace {
+std::string shape_string(const std::vector<int64_t> &shape) {
+    std::string s = "[";
+    for (size_t i = 0; i < shape.size(); ++i) s += (i ? ", " : "") + std::to_string(shape[i]);
+    return s + "]";
+}
+}  // namespace
 
 WeightsFile read_weights_file(const std::string &path) {
     WeightsFile w;
@@ -28,8 +37,9 @@ WeightsFile read_weights_file(const std::string &path) {
     return w;
 }
 
-bool network_silenced(const WeightsFile &w) {
-    // The decoder's output MLP is "decoder.out.<i>.*"; its last Linear is the highest i with a weight.
+bool network_silenced(const WeightsFile &w, const std::string &path) {
+    // The decoder's output MLP is "decoder.out.<i>.*" (LayerNorm, Linear, GELU, Linear: nn/query_decoder.h);
+    // its last Linear is the highest i with a weight.
     const std::string prefix = "decoder.out.";
     long last = -1;
     for (const auto &[name, t] : w.file.tensors) {
@@ -41,16 +51,22 @@ bool network_silenced(const WeightsFile &w) {
         const long i = std::strtol(rest.c_str(), &end, 10);
         if (end == rest.c_str() + dot) last = std::max(last, i);
     }
-    if (last < 0) return false;
-    for (const char *part : {".weight", ".bias"}) {
-        const auto it = w.file.tensors.find(prefix + std::to_string(last) + part);
-        if (it == w.file.tensors.end()) return false;
+    if (last < 0) LTM_THROW(path, ": missing tensor '", prefix, "<i>.weight': weights of another architecture");
+    // The shapes the decoder's last Linear has (dim -> 3): what the tensor model's loader checks for it.
+    const std::vector<std::vector<int64_t>> shapes = {{3, int64_t(w.config.decoder.dim)}, {3}};
+    const char *parts[2] = {".weight", ".bias"};
+    bool zero = true;
+    for (int k = 0; k < 2; ++k) {
+        const std::string name = prefix + std::to_string(last) + parts[k];
+        const auto it = w.file.tensors.find(name);
+        if (it == w.file.tensors.end()) LTM_THROW(path, ": missing tensor '", name, "': weights of another architecture");
+        if (it->second.shape != shapes[size_t(k)])
+            LTM_THROW(path, ": tensor '", name, "' has shape ", shape_string(it->second.shape), ", the model expects ", shape_string(shapes[size_t(k)]));
         std::vector<float> v(it->second.numel());
-        it->second.copy_f32(v.data(), it->first);
-        for (const float x : v)
-            if (x != 0.f) return false;
+        it->second.copy_f32(v.data(), path + ": tensor '" + name + "'");
+        for (const float x : v) zero &= x == 0.f;
     }
-    return true;
+    return zero;
 }
 
 }  // namespace ltm

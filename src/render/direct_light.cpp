@@ -299,18 +299,20 @@ float RatioDirectLight::share_factor(const Light &l, Vec3f p, Vec3f n, bool &exa
     const Light::Node &root = l.tree[0];
     const ConeBounds b = cone_bounds(root, p);
     // Wholly below the horizon (unoccluded_factor clips there) or behind every face: exactly 0.
-    if (dot(n, root.centre - p) + b.r <= 0.f || b.most + b.r <= 0.f) return 0.f;
-    if (length(p - root.centre) <= k_near_radii * root.radius) return unoccluded_factor(l, p, n);
+    const float above = dot(n, root.centre - p);
+    if (above + b.r <= 0.f || b.most + b.r <= 0.f) return 0.f;
+    // Near the lamp, or where the horizon or the lamp's own faces cut it (the approximation is worst
+    // there, and a share too small would leave the part in view without a sample): the exact sum.
+    if (length(p - root.centre) <= k_near_radii * root.radius || above - b.r <= 0.f || b.least - b.r <= 0.f)
+        return unoccluded_factor(l, p, n);
     exact = false;
     const Vec3f to = l.centroid - p;
     const float d2 = dot(to, to);
     if (!(d2 > 0.f)) return unoccluded_factor(l, p, n);   // (a closed lamp's centroid inside it)
     const Vec3f w = to / std::sqrt(d2);
-    // A flat lamp: A·cos_l; a curved one (a wide cone: a sphere, a box) shows about a quarter of its
-    // area from any side (a sphere exactly: πr² of 4πr²).
-    const float cos_l = root.cos_cone >= 0.5f ? std::max(0.f, -dot(root.axis, w)) : 0.25f;
-    const float approx = l.area * std::max(0.f, dot(n, w)) * cos_l / d2;
-    return std::max(approx, 1e-3f * l.area / d2);   // straddling the horizon, say: still a sample
+    // Every face towards p (b.least > r above): the mean normal's cosine stands for the faces'.
+    const float approx = l.area * std::max(0.f, dot(n, w)) * std::max(0.f, -dot(root.axis, w)) / d2;
+    return std::max(approx, 1e-3f * l.area / d2);   // (wholly in view: > 0 but for rounding)
 }
 
 Vec3f RatioDirectLight::irradiance(Vec3f p, Vec3f n, uint64_t key, int n_samples) const {

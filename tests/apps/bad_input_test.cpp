@@ -11,10 +11,10 @@
 #include "cli.h"
 #include "ltm/core/exr.h"
 #include "ltm/core/file_util.h"
-#include "ltm/points/safetensors.h"
 #include "ltm/scene/builtin_scenes.h"
 #include "ltm/scene/mesh_builder.h"
 #include "ltm/scene/scene_json.h"
+#include "active_weights.h"
 #include "test_util.h"
 #ifdef LTM_WITH_TORCH
 #include "ltm/nn/checkpoint.h"
@@ -187,18 +187,7 @@ TEST(BadInput, WeightsAtTheirPriorRenderInAnyBuildAnActiveNetworkNeedsLibtorch) 
                           "--height", "12", "-o", dir.path("prior"), "--quiet"});
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(read_file(dir.path("prior.timings.json")).find("\"network\": \"silenced"), std::string::npos);
-    SafetensorsFile w = read_safetensors(shipped);
-    std::string last;
-    for (const auto &[name, t] : w.tensors)
-        if (name.rfind("decoder.out.", 0) == 0 && name.size() > 7 && name.substr(name.size() - 7) == ".weight" && name > last) last = name;
-    ASSERT_FALSE(last.empty());
-    StTensor &out = w.tensors.at(last);
-    ASSERT_TRUE(out.dtype == "F16" || out.dtype == "F32") << out.dtype;
-    if (out.dtype == "F16")
-        out.data[1] = char(0x3c);   // 1.0 in binary16 (0x3c00, little-endian) as its first weight
-    else
-        out.data[3] = char(0x3f), out.data[2] = char(0x80);   // 1.0f (0x3f800000)
-    write_safetensors(dir.path("active.safetensors"), w);
+    test::write_active_weights(shipped, dir.path("active.safetensors"));
     const std::vector<std::string> args = {"render", "builtin:cornell-box", "--method", "neural", "--model", dir.path("active.safetensors"),
                                            "--scene-points", "2048", "--width", "12", "--height", "12", "-o", dir.path("active"), "--quiet"};
 #ifdef LTM_WITH_TORCH

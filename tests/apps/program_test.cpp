@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "ltm/core/file_util.h"
-#include "ltm/points/safetensors.h"
+#include "active_weights.h"
 #include "test_util.h"
 
 namespace ltm {
@@ -32,20 +32,6 @@ Ran run_program(const std::string &args) {
 
 bool with_libtorch() { return std::ifstream(std::string(LTM_PROGRAM_DIR) + "/ltm-torch").good(); }
 
-// The shipped weights with their output layer set going: an active network.
-std::string active_weights(const test::TempDir &dir) {
-    SafetensorsFile w = read_safetensors(test::source_path("models/ltm-cpu.safetensors"));
-    std::string last;
-    for (const auto &[name, t] : w.tensors)
-        if (name.rfind("decoder.out.", 0) == 0 && name.size() > 7 && name.substr(name.size() - 7) == ".weight" && name > last) last = name;
-    StTensor &out = w.tensors.at(last);
-    if (out.dtype == "F16")
-        out.data[1] = char(0x3c);   // 1.0 in binary16 as its first weight
-    else
-        out.data[3] = char(0x3f), out.data[2] = char(0x80);   // 1.0f
-    write_safetensors(dir.path("active.safetensors"), w);
-    return dir.path("active.safetensors");
-}
 }  // namespace
 
 TEST(Program, LtmLoadsNoLibtorchAndHandsOverWhatNeedsIt) {
@@ -60,7 +46,8 @@ TEST(Program, LtmLoadsNoLibtorchAndHandsOverWhatNeedsIt) {
     r = run_program(render + test::source_path("models/ltm-cpu.safetensors") + " -o " + dir.path("prior"));
     EXPECT_EQ(r.code, 0) << r.out;
     EXPECT_NE(read_file(dir.path("prior.timings.json")).find("\"network\": \"silenced"), std::string::npos);
-    const std::string active = active_weights(dir);
+    const std::string active = dir.path("active.safetensors");
+    test::write_active_weights(test::source_path("models/ltm-cpu.safetensors"), active);
     r = run_program("train --help");
     const Ran a = run_program(render + active + " -o " + dir.path("active"));
     if (with_libtorch()) {

@@ -12,6 +12,7 @@
 #include "ltm/infer/traced_bounce.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
+#include "ltm/points/safetensors.h"
 #include "ltm/render/direct_light.h"
 #include "ltm/render/interaction.h"
 #include "ltm/render/scene_points.h"
@@ -188,8 +189,9 @@ TEST(NeuralRenderer, PriorOnlyRenderIsTheModelsOwnPrior) {
 // A model at its prior (the decoder's output layer zeroed, as the shipped model) renders without
 // libtorch (infer/prior_model.h) exactly as the tensor model does: the same image to the bit, pixels,
 // Ê⁺ and direct light, with the prior dense or through its tree, every pixel decoded or coarse to
-// fine, and conductors by the traced bounce (Ê⁺ at its hits decoded, then from the scene points). Its
-// weights file says the network is silenced; the random network's does not.
+// fine, and conductors by the traced bounce (Ê⁺ at its hits decoded, then from the scene points);
+// and to float rounding against the unfolded tensor decoder. Its weights file says the network is
+// silenced; the random network's does not.
 TEST(NeuralRenderer, PriorRenderWithoutTorchIsTheTensorModelAtItsPrior) {
     const Scene scene = room_with_metal();
     const EmbreeAccel accel(scene);
@@ -209,6 +211,14 @@ TEST(NeuralRenderer, PriorRenderWithoutTorchIsTheTensorModelAtItsPrior) {
     const PriorModel pm = load_prior_model(dir.path("prior.safetensors"));
     EXPECT_TRUE(pm.silenced);
     EXPECT_EQ(pm.cfg.to_json().dump(), model->cfg.to_json().dump());
+    // Its output layer is all the prior path reads of the tensors: missing or misshapen, it is refused.
+    SafetensorsFile broken = read_safetensors(dir.path("prior.safetensors"));
+    ASSERT_EQ(broken.tensors.erase("decoder.out.3.bias"), 1u);
+    write_safetensors(dir.path("broken.safetensors"), broken);
+    EXPECT_THROW(load_prior_model(dir.path("broken.safetensors")), Error);
+    broken.tensors["decoder.out.3.bias"] = make_f32_tensor({4}, std::vector<float>(4, 0.f).data());
+    write_safetensors(dir.path("broken.safetensors"), broken);
+    EXPECT_THROW(load_prior_model(dir.path("broken.safetensors")), Error);
     const Camera cam = Room::view(24);
     int conductors = 0;
     struct Case {
@@ -232,6 +242,19 @@ TEST(NeuralRenderer, PriorRenderWithoutTorchIsTheTensorModelAtItsPrior) {
         EXPECT_EQ(same, int(a.image.color.pixels.size())) << "θ " << c.theta << ", " << c.levels << " levels";
     }
     EXPECT_GT(conductors, 20) << "conductor pixels in view";
+    // The tensor decoder itself, not folded: its zeroed output through libtorch's softplus and expm1
+    // gives the same prior to float rounding (the folded path above shares the prior's code).
+    model->fold_prior = false;
+    NeuralRenderOptions opt;
+    opt.direct_spp = 4, opt.seed = 3, opt.glossy = GlossyShading::diffuse;
+    const NeuralRender a = render_neural(model, pt, cam, opt), b = render_prior(model->cfg, pt, cam, opt);
+    double worst = 0;
+    for (size_t i = 0; i < a.image.irradiance.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, double(std::abs(a.image.irradiance.pixels[i][c] - b.image.irradiance.pixels[i][c])) /
+                                        (double(b.image.irradiance.pixels[i][c]) + 1e-12));
+    EXPECT_LT(worst, 1e-6) << "relative, at the worst pixel";
+    model->fold_prior = true;
     NeuralRenderOptions head;
     head.glossy = GlossyShading::head;
     EXPECT_THROW(render_prior(model->cfg, pt, cam, head), Error);

@@ -105,7 +105,8 @@ struct DecodeTimings {
 /// Where a render reads Ê⁺: an encoded scene.
 struct GiSource {
     IrradianceDecoder irradiance;   ///< Ê⁺ at query rows, pixels and bounce hits alike
-    /// Where `irradiance` adds its seconds (null: the render times its pixel decodes as `decode`).
+    /// Where `irradiance` adds its own seconds (the render's `knn` and `decode` timings: those of its
+    /// pixels' calls); null: not reported (0).
     DecodeTimings *timings = nullptr;
     /// L̂⁺ at query rows [n, 9] along unit directions [n, 3] (world frame): a directional head;
     /// null when the source has none (GlossyShading::head then throws).

@@ -57,7 +57,8 @@ inline std::shared_ptr<const SegmentOcclusion> prior_occlusion(const LtmModel &m
 /// `timings` (optional) accumulates its kNN and decode seconds.
 IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents, DecodeTimings *timings = nullptr);
 /// The model's prior alone, the network silenced (prior_irradiance): the `model-prior` rows.
-IrradianceDecoder model_prior_irradiance(const SceneLatents &latents);
+/// `timings` (optional) accumulates its calls' seconds as `decode`.
+IrradianceDecoder model_prior_irradiance(const SceneLatents &latents, DecodeTimings *timings = nullptr);
 
 /// Ê⁺ at the G-buffer's hit points (normal on the side facing the eye).  -> one Vec3f per hit.
 std::vector<Vec3f> predict_gbuffer(LtmModel &model, const EncodedScene &enc, const GBuffer &gb,

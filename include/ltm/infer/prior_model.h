@@ -76,8 +76,9 @@ struct PriorScene {
 /// `accel` must outlive the frame); null otherwise.
 std::shared_ptr<const SegmentOcclusion> prior_occlusion(const ModelConfig &cfg, const EmbreeAccel &accel);
 PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);
-/// The prior's Ê⁺ (nn/scene_frame.h prior_irradiance) as a decoder; shares the frame.
-IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame);
+/// The prior's Ê⁺ (nn/scene_frame.h prior_irradiance) as a decoder; shares the frame. `timings`
+/// (optional) accumulates its calls' seconds as `decode`, as the tensor model's folded path timed them.
+IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame, DecodeTimings *timings = nullptr);
 /// The render of one view by the prior alone: encode_prior_scene, then render_with_gi. Throws for
 /// GlossyShading::head (the head is a network).
 NeuralRender render_prior(const ModelConfig &cfg, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);

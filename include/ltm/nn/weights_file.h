@@ -1,5 +1,5 @@
 // weights_file.h: an `ltm export` weights file read without libtorch — its format checks, its model
-// config, and whether its network is silenced. The tensor model's load_weights (nn/checkpoint.h)
+// config, and whether its network is silenced (its decoder's output layer zero). The tensor model's load_weights (nn/checkpoint.h)
 // reads through it; a render of a model at its prior (infer/prior_model.h) needs nothing more.
 #pragma once
 
@@ -24,7 +24,9 @@ WeightsFile read_weights_file(const std::string &path);
 
 /// True when the decoder's output layer (the last "decoder.out.<i>" Linear) is exactly zero: the
 /// network is silenced and the model is its closed-form prior wherever it is asked
-/// (QueryDecoder::at_prior, --start-at-prior). False when the file has no such layer.
-bool network_silenced(const WeightsFile &w);
+/// (QueryDecoder::at_prior, --start-at-prior). A file without that layer, or with it in another
+/// shape than the config's, is refused ("path: ..."). The other tensors are not read: a model at its
+/// prior renders from its config alone (infer/prior_model.h).
+bool network_silenced(const WeightsFile &w, const std::string &path);
 
 }  // namespace ltm

@@ -7,7 +7,7 @@
 // one sign, so the edges that two such triangles share cancel and a mesh in view costs its outline)
 // and the ratio uses the same samples on l with and without their shadow rays. The n samples are
 // shared among the lights in proportion to E_unocc,l, or to its small-source approximation for a
-// light farther than a few of its radii (at least one each), and E_unocc,l is summed only for a
+// light farther than a few of its radii and wholly in view (at least one each), and E_unocc,l is summed only for a
 // light that a sample sees: a light in another room — unoccluded analytically, occluded in fact —
 // costs one shadow ray, adds no noise to the lights that are seen, and no arc terms. Unshadowed points are exact at any sample count and penumbrae keep only the noise of the
 // visibility ratio, so a few samples give a clean image. A ratio of estimates is biased, but
@@ -76,8 +76,9 @@ private:
     float unoccluded_factor(const Light &l, Vec3f p, Vec3f n) const;
     /// What shares irradiance()'s samples out among the lights, for unit radiance: 0 where l is
     /// wholly below p's horizon or turned away (exactly E_unocc,l there); unoccluded_factor itself
-    /// (`exact`) within k_near_radii of l's bounding sphere; farther, the small-source approximation
-    /// A·cos_x·cos_l/d² at its centroid, floored so that a light not ruled out keeps a sample. The
+    /// (`exact`) within k_near_radii of l's bounding sphere and wherever p's horizon or the lamp's
+    /// faces cut it; otherwise (far, wholly above the horizon and facing p) the small-source
+    /// approximation A·cos_x·cos_l/d² at its centroid, floored so that it keeps a sample. The
     /// exact sum is then paid only for lights a sample sees: a lamp in another room costs its shadow
     /// ray and a few bounds, not its outline's arc terms.
     float share_factor(const Light &l, Vec3f p, Vec3f n, bool &exact) const;
