@@ -31,10 +31,9 @@ std::vector<Command> commands() {
     for (auto make : {make_train_command, make_export_command, make_eval_command, make_eval_directional_command}) table.push_back(make());
 #else
     // Listed by --help; run_cli hands them to ltm-torch before parsing (delegate.h).
-    for (const auto &[name, help] : {std::pair{"train", k_train_help}, std::pair{"export", k_export_help}, std::pair{"eval", k_eval_help},
-                                     std::pair{"eval-directional", k_eval_directional_help}})
-        table.push_back({name, std::string(help) + " [libtorch: ltm-torch]", [](CLI::App &sub) { sub.allow_extras(); },
-                         [name = std::string(name)](const CommonOptions &) { throw NeedsLibtorch("ltm " + name + " needs libtorch"); }});
+    for (const LibtorchCommand &c : k_libtorch_commands)
+        table.push_back({c.name, std::string(c.help) + " [libtorch: ltm-torch]", [](CLI::App &sub) { sub.allow_extras(); },
+                         [name = std::string(c.name)](const CommonOptions &) { throw NeedsLibtorch("ltm " + name + " needs libtorch"); }});
 #endif
     return table;
 }

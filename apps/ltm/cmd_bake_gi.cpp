@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli.h"
-#include "delegate.h"
+#include "command_model.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/image.h"
 #include "ltm/core/log.h"
@@ -19,10 +19,6 @@
 #include "ltm/render/gi_bake.h"
 #include "ltm/render/path_tracer.h"
 #include "ltm/scene/scene_loader.h"
-#include "ltm/infer/prior_model.h"   // torch-free: weights at their prior
-#if LTM_WITH_TORCH
-#include "ltm/infer/neural_renderer.h"
-#endif
 
 namespace ltm::cli {
 
@@ -79,15 +75,10 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
     if (out.extension() != ".glb") LTM_THROW(a.output, ": the output must be a .glb file");
     check_output_directory(a.output);
     if (!a.view.empty()) check_output_directory(a.view + ".png");
-    // The weights first: what needs libtorch is handed over before any work (delegate.h), and weights
-    // at their prior bake without it (infer/prior_model.h): the same numbers.
-    std::optional<PriorModel> pm;
-    if (a.method == "neural") {
-        pm = load_prior_model(a.model);
-#if !LTM_WITH_TORCH
-        if (!pm->silenced) throw NeedsLibtorch(a.model + ": the network of these weights is active, and running it needs libtorch");
-#endif
-    }
+    // The weights first: what needs libtorch is handed over before any work (command_model.h), and
+    // weights at their prior bake without it (infer/prior_model.h): the same numbers.
+    std::optional<CommandModel> m;
+    if (a.method == "neural") m = open_command_model(load_prior_model(a.model));
     const Scene scene = load_scene(a.scene);
     bool lit = false;
     for (const Material &m : scene.materials) lit |= m.is_emissive();
@@ -106,20 +97,14 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         const IrradianceImages ir = irradiance_images(pt, gb, a.spp, /*with_indirect=*/true);
         direct = column(ir.direct), indirect = column(ir.indirect);
     } else {
-#if LTM_WITH_TORCH
-        std::optional<LoadedModel> m;
-        if (!pm->silenced) m = load_model(a.model);
-        ModelConfig &cfg = m ? m->model->cfg : pm->cfg;
-#else
-        ModelConfig &cfg = pm->cfg;
-#endif
+        ModelConfig &cfg = m->cfg();
         if (apply_point_options(cfg, a.scene_points, a.prior_theta, a.prior_rays) == k_scene_points_auto)
             set_auto_scene_points(cfg, scene, a.prior_theta >= 0);
         bool decoded = false;
 #if LTM_WITH_TORCH
-        if (m) {
-            const EncodedScene enc = encode_scene(m->model, accel, common.seed);
-            indirect = predict_gbuffer(m->model, enc, gb);
+        if (m->tensor) {
+            const EncodedScene enc = encode_scene(m->tensor->model, accel, common.seed);
+            indirect = predict_gbuffer(m->tensor->model, enc, gb);
             decoded = true;
         }
 #endif

@@ -2,19 +2,14 @@
 // shipped model: its prior) render without libtorch (infer/prior_model.h), in any build; an active
 // network, or its directional head, through the tensor model (libtorch builds).
 #include <chrono>
-#include <optional>
 
 #include "cli.h"
-#include "delegate.h"
+#include "command_model.h"
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/core/progress.h"
 #include "ltm/core/startup.h"
 #include "ltm/core/tonemap.h"
-#include "ltm/infer/prior_model.h"
-#if LTM_WITH_TORCH
-#include "ltm/infer/neural_renderer.h"
-#endif
 #include "ltm/procgen/training_range.h"
 #include "ltm/scene/scene_loader.h"
 
@@ -30,20 +25,10 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     auto t = Clock::now();
     PriorModel pm = load_prior_model(a.model);   // the config; whether its network is silenced
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
-    // The prior alone renders it exactly (the same numbers as the tensor model: NeuralRenderer tests).
     if (glossy == GlossyShading::head && !pm.cfg.directional)
         LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");
-    const bool at_prior = pm.silenced && glossy != GlossyShading::head;
-#if LTM_WITH_TORCH
-    std::optional<LoadedModel> m;
-    if (!at_prior) m = load_model(a.model);
-    ModelConfig &cfg = m ? m->model->cfg : pm.cfg;
-#else
-    if (!at_prior)   // before the scene loads: ltm-torch runs the command line (delegate.h)
-        throw NeedsLibtorch(a.model + (pm.silenced ? ": --glossy head needs the directional head, a network, and so libtorch"
-                                                   : ": the network of these weights is active, and running it needs libtorch"));
-    ModelConfig &cfg = pm.cfg;
-#endif
+    CommandModel m = open_command_model(std::move(pm), glossy == GlossyShading::head, "--glossy head needs the directional head, a network");
+    ModelConfig &cfg = m.cfg();
     const double load_model_s = seconds_since(t);
     const int scene_points = apply_point_options(cfg, a.scene_points, a.prior_theta, a.prior_rays);   // its bounds fail before the scene loads
     t = Clock::now();
@@ -68,7 +53,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     opt.glossy = glossy;
     opt.bounce = parse_bounce_irradiance(a.bounce);
 #if LTM_WITH_TORCH
-    const NeuralRender r = m ? render_neural(m->model, pt, cam, opt) : render_prior(cfg, pt, cam, opt);
+    const NeuralRender r = m.tensor ? render_neural(m.tensor->model, pt, cam, opt) : render_prior(cfg, pt, cam, opt);
 #else
     const NeuralRender r = render_prior(cfg, pt, cam, opt);
 #endif
@@ -86,7 +71,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     const auto &rt = r.timings;
     OrderedJson j = {{"scene", a.scene},
                      {"model", a.model},
-                     {"network", at_prior ? "silenced: the prior alone, without libtorch" : "active"},
+                     {"network", m.network ? "active" : "silenced: the prior alone, without libtorch"},
                      {"width", cam.width},
                      {"height", cam.height},
                      {"queries", r.n_queries},

@@ -13,7 +13,9 @@
 namespace ltm::cli {
 
 bool is_libtorch_command(const std::string &name) {
-    return name == "train" || name == "export" || name == "eval" || name == "eval-directional";
+    for (const LibtorchCommand &c : k_libtorch_commands)
+        if (name == c.name) return true;
+    return false;
 }
 
 std::string exec_libtorch_program(const std::vector<std::string> &args) {

@@ -31,6 +31,11 @@ inline constexpr const char *k_export_help = "Export a checkpoint's (or convert 
 inline constexpr const char *k_eval_help = "Evaluate the model against path tracing on held-out scenes (report.json, table.md, grids)";
 inline constexpr const char *k_eval_directional_help =
     "Evaluate a directional head on held-out records with L_in bins, beside spherical-harmonics fits";
+struct LibtorchCommand {
+    const char *name, *help;
+};
+inline constexpr LibtorchCommand k_libtorch_commands[] = {
+    {"train", k_train_help}, {"export", k_export_help}, {"eval", k_eval_help}, {"eval-directional", k_eval_directional_help}};
 bool is_libtorch_command(const std::string &name);
 
 /// Set in the environment of the ltm-torch that `ltm` hands a command to: a program that finds it

@@ -135,7 +135,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         // since v0.10 each receiver blends the visibility of its 4 nearest visible clusters and the
         // near field is by square patches.
         const auto t_vis = Clock::now();
-        const float spacing = float(std::sqrt(es.scene.total_area() / double(sampled.points.size())));
+        const float spacing = nominal_spacing(es.scene, int64_t(sampled.points.size()));
         VisibilityOptions vis;
         vis.voxel_spacings = 1.f, vis.disc_spacings = 1.f, vis.blend = 4;
         const TransportPrior transport_vis = solve_transport_prior(

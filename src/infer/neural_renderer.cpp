@@ -39,7 +39,7 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
     auto t = Clock::now();
     ScenePoints sampled = sample_scene_points(accel, model->cfg.scene_points, seed, exclude_enclosed);
     const auto points = point_tensor(sampled.points);
-    enc.spacing = float(std::sqrt(accel.scene().total_area() / double(std::max<size_t>(1, sampled.points.size()))));
+    enc.spacing = nominal_spacing(accel.scene(), int64_t(sampled.points.size()));
     enc.points = std::move(sampled.points);   // the tensor holds its own copy
     const Vec3f s = sampled.emission_scale;
     const auto emission_scale = torch::tensor({s.x, s.y, s.z});

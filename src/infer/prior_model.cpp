@@ -85,7 +85,7 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
     PriorScene s;
     auto t = Clock::now();
     ScenePoints sampled = sample_scene_points(accel, cfg.scene_points, seed, exclude_enclosed);
-    s.spacing = float(std::sqrt(accel.scene().total_area() / double(std::max<size_t>(1, sampled.points.size()))));
+    s.spacing = nominal_spacing(accel.scene(), int64_t(sampled.points.size()));
     s.points = std::move(sampled.points);
     s.n_scene_points = int64_t(s.points.size());
     if (s.points.n_columns() != 12) LTM_THROW("scene points: expected 12 columns, got ", s.points.n_columns());

@@ -74,7 +74,7 @@ ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint
     SampleFilter filter;
     if (exclude_enclosed) {
         EnclosureTest cfg;
-        if (n_points > 0) cfg.buried_distance = buried_spacings * float(std::sqrt(accel.scene().total_area() / double(n_points)));
+        if (n_points > 0) cfg.buried_distance = buried_spacings * nominal_spacing(accel.scene(), n_points);
         filter = enclosed_filter(accel, cfg);
     }
     const double filter_s = seconds_since(t0);

@@ -15,18 +15,24 @@
 namespace ltm {
 namespace {
 
+// A black emitter of constant radiance: a lamp's material, which scatters nothing back.
+Material emitter(const std::string &name, Vec3f radiance) {
+    Material m;
+    m.name = name;
+    m.albedo = Texture::constant(Vec3f(0.f));
+    m.emission = Texture::constant(radiance);
+    return m;
+}
+
 // A 1 m × 0.5 m light at y = 2 facing down (radiance (4, 2, 1)), and a small occluder plate at
 // y = 1 under part of it; nothing else, so points away from the plate see the light unshadowed.
 Scene lamp_scene(bool with_plate) {
     Scene s;
     s.name = "lamp";
-    Material light, plate;
-    light.name = "light";
-    light.albedo = Texture::constant(Vec3f(0.f));
-    light.emission = Texture::constant(Vec3f(4.f, 2.f, 1.f));
+    Material plate;
     plate.name = "plate";
     plate.albedo = Texture::constant(Vec3f(0.f));   // black: no light scattered back
-    s.add_material(light);
+    s.add_material(emitter("light", Vec3f(4.f, 2.f, 1.f)));
     s.add_material(plate);
     TriangleMesh lamp, occ;
     lamp.name = "light", lamp.material = 0;
@@ -111,21 +117,13 @@ double triangle_irradiance_double(Vec3f pf, Vec3f nf, Vec3f v0, Vec3f v1, Vec3f 
     return std::abs(0.5 * sum);
 }
 
-// A lamp as real files bring them: a sphere tessellated 48 × 24 (as the pbrt reader does, its seam's
+// Lamps as real files bring them: a sphere tessellated 48 × 24 (as the pbrt reader does, its seam's
 // vertices repeated), a box whose faces repeat their corners (a triangle soup), one face wound the
-// other way and one missing. E_unocc, summed over the outline of what is in view, equals the sum of
-// every triangle's own clipped formula (in double) — for receivers that see the lamps whole, cut by
-// their horizon, grazing and inside the open box.
-// A seamed sphere lamp (48 × 24) and a box of five quads as a triangle soup, one face wound inwards
-// and one side missing.
+// other way and one missing.
 Scene sphere_and_box_lamps() {
     Scene s;
     s.name = "lamps";
-    Material light;
-    light.name = "light";
-    light.albedo = Texture::constant(Vec3f(0.f));
-    light.emission = Texture::constant(Vec3f(3.f, 2.f, 1.f));
-    s.add_material(light);
+    s.add_material(emitter("light", Vec3f(3.f, 2.f, 1.f)));
     TriangleMesh sphere;
     sphere.name = "sphere", sphere.material = 0;
     const int nu = 48, nv = 24;
@@ -155,6 +153,9 @@ Scene sphere_and_box_lamps() {
     return s;
 }
 
+// E_unocc, summed over the outline of what is in view, equals the sum of every triangle's own clipped
+// formula (in double) — for receivers that see the lamps whole, cut by their horizon, grazing and
+// inside the open box.
 TEST(DirectLight, OutlineSumEqualsTheTrianglesSum) {
     const Scene s = sphere_and_box_lamps();
     const EmbreeAccel accel(s);
@@ -190,18 +191,10 @@ TEST(DirectLight, OutlineSumEqualsTheTrianglesSum) {
 TEST(DirectLight, RatioEstimatorSharesTheSamplesWithoutDroppingALight) {
     Scene s;
     s.name = "shell";
-    Material light;
-    light.name = "light";
-    light.albedo = Texture::constant(Vec3f(0.f));
-    light.emission = Texture::constant(Vec3f(3.f, 2.f, 1.f));
-    s.add_material(light);
     Pcg32 rng(11);
     // Each lamp its own colour: a lamp dropped or counted twice shows in the channels' ratios too.
     const auto lamp_material = [&](int i) {
-        Material m = light;
-        m.name = "light" + std::to_string(i);
-        m.emission = Texture::constant(Vec3f(1.f + float(i % 3), 1.f + float(i % 5), 1.f + float(i % 7)));
-        return s.add_material(m);
+        return s.add_material(emitter("light" + std::to_string(i), Vec3f(1.f + float(i % 3), 1.f + float(i % 5), 1.f + float(i % 7))));
     };
     int n_lamps = 0;
     const auto quad = [&](Vec3f centre, Vec3f facing, float half, const std::string &name) {

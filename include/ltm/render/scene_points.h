@@ -5,6 +5,9 @@
 // normalisation uses instead of the noisy mean over the few points that land on emitters.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include <cstdint>
 
 #include "ltm/points/point_set.h"
@@ -38,6 +41,12 @@ constexpr int64_t k_emitter_share_inv = 128;
 /// area every node stands for, so π Σ Le' a = Φ in expectation per channel (the exact emission scale
 /// then rescales it, as before); and it reflects as the area it stands for: ρ' = ρ · min(1, A_e /
 /// (K a)), A_e the emitters' area. Scenes whose emitters already hold K points are unchanged.
+/// The nominal spacing of n area-uniform points on the scene's surface, √(A/n) (n < 1 counts as 1):
+/// what lengths measured in "point spacings" are relative to.
+inline float nominal_spacing(const Scene &scene, int64_t n_points) {
+    return float(std::sqrt(scene.total_area() / double(std::max<int64_t>(1, n_points))));
+}
+
 ScenePoints sample_scene_points(const EmbreeAccel &accel, int64_t n_points, uint64_t seed, bool exclude_enclosed = true,
                                 float buried_spacings = k_buried_spacings);
 
