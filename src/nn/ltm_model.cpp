@@ -117,6 +117,14 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     out.norm = frame ? *frame : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion));
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
+    if (cfg.decoder.level_points > 0) {
+        // The first K FPS centres: spread over the whole scene whatever K (FPS order).
+        const auto first = geometry.centers.slice(0, 0, std::min<int64_t>(cfg.decoder.level_points, geometry.centers.size(0)));
+        out.level_queries = scene_points.index_select(0, first).slice(1, 0, 9);                       // [K, 9]
+        out.level_scale = out.norm.point_prior.defined() ? out.norm.point_prior.index_select(0, first)
+                                                         : output_scale(out.level_queries, out.norm);
+        out.level_scale = out.level_scale.expand({out.level_queries.size(0), 3});                    // [K, 3]
+    }
     // (Non-finite scene points take the network's path, which reports them.)
     const bool fold = fold_prior && !torch::GradMode::is_enabled() && decoder->at_prior() && torch::isfinite(scene_points).all().item<bool>();
     if (fold && !directional) {
@@ -162,11 +170,25 @@ torch::Tensor LtmModelImpl::query_inputs(const torch::Tensor &query_points, cons
     return torch::cat({q, prior_features(s, norm)}, 1);   // [N, 12]
 }
 
-torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale) {
+torch::Tensor LtmModelImpl::decode_network(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale) {
     const auto q = query_inputs(query_points, latents.norm, scale);
     const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
     return decoder->forward(q, features(latents), latents.anchors, idx);
+}
+
+torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale) {
+    const auto z = decode_network(query_points, latents, scale);
+    if (cfg.decoder.level_points <= 0) return z;
+    return torch::log1p(level_factor(latents) * torch::expm1(z));
+}
+
+torch::Tensor LtmModelImpl::level_factor(const SceneLatents &latents) {
+    if (cfg.decoder.level_points <= 0) return {};
+    if (!latents.level_queries.defined()) LTM_THROW("level_factor: the latents have no level queries (make them with encode)");
+    const auto g = torch::expm1(decode_network(latents.level_queries, latents, latents.level_scale));   // [K, 3]
+    const auto s = latents.level_scale.to(g.device(), g.scalar_type());
+    return s.sum() / (s * g).sum().clamp_min(1e-30);
 }
 
 torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
@@ -186,6 +208,9 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     }
     std::optional<FusedDecoder> fused;
     const torch::Tensor feats = features(latents);
+    // One level factor for every chunk (decoder.level_points; 1 when undefined).
+    const torch::Tensor level = level_factor(latents);
+    const auto held = [&](torch::Tensor e) { return level.defined() ? e * level : e; };
     if (fused_inference && cfg.decoder.type == "attention" && query_points.is_cpu() && feats.is_cpu()) {
         fused.emplace(*decoder);   // rebuilt per call: ~0.1 M floats, negligible next to decoding
         fused->prepare(feats);
@@ -195,7 +220,7 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
         const auto scale = output_scale(qp, latents.norm);   // the prior at the queries: input and output frame
         if (!fused) {
-            parts.push_back(irradiance_from_z(decode(qp, latents, scale), scale));
+            parts.push_back(held(irradiance_from_z(decode_network(qp, latents, scale), scale)));
             continue;
         }
         const auto q = query_inputs(qp, latents.norm, scale);
@@ -205,7 +230,7 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
         local.knn += seconds_since(t);
         t = clock::now();
-        parts.push_back(irradiance_from_z(fused->forward(q, latents.anchors, idx), scale));
+        parts.push_back(held(irradiance_from_z(fused->forward(q, latents.anchors, idx), scale)));
     }
     auto out = parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);
     local.decode += seconds_since(t);

@@ -26,6 +26,8 @@ const ConfigFields<DecoderConfig> &DecoderConfig::fields() {
             .field("n_layers", &C::n_layers, "stacked cross-attention blocks", at_least(1))
             .field("groups", &C::groups, "G weight groups of grouped vector attention (PTv2); divides dim", at_least(1))
             .field("ffn_ratio", &C::ffn_ratio, "hidden width of each block's FFN = ffn_ratio · dim", between(1, 64))
+            .omit_default()
+            .field("level_points", &C::level_points, "K > 0: the output keeps the prior's level over the K first anchors (0: free)", at_least(0))
             .omit_default();
     return f;
 }

@@ -51,6 +51,9 @@ struct SceneLatents {
     torch::Tensor features;  ///< [m, C]; undefined while deferred (LtmModelImpl::features runs the encoder then)
     torch::Tensor anchors;   ///< [m, 3] anchor positions in the normalised frame ((p − centre) / ℓ)
     SceneNormalization norm; ///< the frame the anchors and every query are expressed in
+    /// decoder.level_points = K > 0: the K first FPS centres as raw queries [K, 9] and the prior
+    /// there [K, 3], where the model holds its prior's level (LtmModelImpl::level_factor).
+    torch::Tensor level_queries, level_scale;
     /// The encoder's inputs when its run is deferred: a model at its prior with a directional head
     /// (fold_prior), whose features only the head reads — and most frames never call it (a scene
     /// without conductors, `--glossy trace`). Shared, so copies of the latents compute them once.
@@ -107,7 +110,14 @@ struct LtmModelImpl : torch::nn::Module {
     /// scale: output_scale(query_points, latents.norm) when already known ([N, 3], or [3] for the
     /// flat prior); read only with prior_inputs, as the queries' prior input; undefined: gathered
     /// here when needed.
+    /// With decoder.level_points > 0, z is the level-held output log1p(r · expm1(z_net)), r =
+    /// level_factor(latents) (computed at each call, so under autograd r carries its gradient).
     torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {});
+    /// The factor that holds the prior's level (DecoderConfig::level_points): with g = expm1(z_net)
+    /// at the latents' level queries and S the prior there,  r = Σ_{i,c} S_ic / Σ_{i,c} S_ic g_ic.
+    /// 1 (up to rounding) for a decoder at its prior. Invariant to emission and unit like S and g.
+    ///   -> [] (a scalar tensor; defined only with level_points > 0)
+    torch::Tensor level_factor(const SceneLatents &latents);
     /// The decoder's input rows: normalize_query_points, then with prior_inputs the prior's features
     /// (prior_features of scale, gathered when undefined).   query_points [N, 9] raw -> [N, 9 (+3)]
     torch::Tensor query_inputs(const torch::Tensor &query_points, const SceneNormalization &norm,
@@ -128,6 +138,8 @@ struct LtmModelImpl : torch::nn::Module {
     torch::Tensor predict_radiance(const torch::Tensor &query_points, const torch::Tensor &direction,
                                    const SceneLatents &latents, int64_t chunk = 2048);
     int64_t n_parameters() const;
+    /// The network's own z, before level_factor.   query_points [N, 9] raw -> z [N, 3] >= 0
+    torch::Tensor decode_network(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {});
     /// The latents' features [m, C]: latents.features, or the deferred encoder run (computed once).
     torch::Tensor features(const SceneLatents &latents);
 

@@ -36,6 +36,13 @@ struct DecoderConfig {
     int n_layers = 2;                ///< stacked cross-attention blocks ("iteratively aggregate")
     int groups = 8;                  ///< G weight groups of grouped vector attention (PTv2)
     int ffn_ratio = 4;               ///< hidden width of each block's FFN = ffn_ratio · dim (transformer convention)
+    /// K > 0: the network keeps its prior's level and only redistributes light within the scene.
+    /// Its gain g = expm1(z) is rescaled by one factor per scene, r = Σ S / Σ S·g over the K
+    /// first FPS anchors taken as queries (S: the prior there, summed over the channels), so the
+    /// prior's light summed over those points is the model's (LtmModelImpl::level_factor). Why: a
+    /// free level is what the network learned first from every training set and carried to scenes
+    /// whose level its prior already had right (docs/results.md, sessions 31–32). 0: free level.
+    int level_points = 0;
     /// Feed the query's absolute position to 𝓗 (eq. 9); positions still enter as Δp (eq. 10). Not
     /// a JSON key: LtmModel sets it from PhysicsConfig::translation_invariant.
     bool absolute_position = true;
