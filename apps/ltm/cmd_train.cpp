@@ -19,7 +19,7 @@ namespace ltm::cli {
 
 namespace {
 struct TrainArgs {
-    std::string model, out, config, init, head, freeze, device = "cpu";
+    std::string model, out, config, init, head, freeze, frame_cache, device = "cpu";
     std::vector<std::string> data, val_data, overrides;
     bool start_at_prior = false;
     bool resume = false;
@@ -42,6 +42,7 @@ std::vector<std::string> rank_args(const TrainArgs &a, const CommonOptions &comm
     if (!a.init.empty()) v.insert(v.end(), {"--init", a.init});
     if (!a.head.empty()) v.insert(v.end(), {"--head", a.head});
     if (!a.freeze.empty()) v.insert(v.end(), {"--freeze", a.freeze});
+    if (!a.frame_cache.empty()) v.insert(v.end(), {"--frame-cache", a.frame_cache});
     if (a.steps > 0) v.insert(v.end(), {"--steps", std::to_string(a.steps)});
     if (a.resume) v.push_back("--resume");
     if (a.start_at_prior) v.push_back("--start-at-prior");
@@ -93,6 +94,9 @@ void declare(CLI::App &sub, TrainArgs &a) {
         ->check(CLI::IsMember({"irradiance", "directional"}));
     sub.add_option("--freeze", a.freeze, "Shorthand for --set freeze=...: encoder keeps the embedding and PTv3 weights")
         ->check(CLI::IsMember({"none", "encoder"}));
+    sub.add_option("--frame-cache", a.frame_cache,
+                   "Keep each house's prepared draw (its scene points, groups and solved prior) in this folder and reuse "
+                   "what an earlier run of this program kept there: a later run skips the per-house solve");
     sub.add_option("--device", a.device, "cpu | cuda")->capture_default_str()->check(CLI::IsMember({"cpu", "cuda"}));
     sub.add_option("--nproc", a.nproc,
                    "Data-parallel ranks to launch on this machine (torchrun's variables; scenes_per_step and batch_queries "
@@ -138,6 +142,7 @@ void run(const TrainArgs &a, const CommonOptions &common) {
     Trainer trainer(mc, tc, a.data, a.out, a.device == "cuda" ? torch::Device(torch::kCUDA) : torch::Device(torch::kCPU),
                     a.val_data);
     log_info("model '", mc.name, "': ", trainer.model()->n_parameters(), " parameters");
+    if (!a.frame_cache.empty()) trainer.set_frame_cache(a.frame_cache);
     if (!a.init.empty()) {
         if (a.resume) LTM_THROW("--init and --resume exclude each other (a resumed run has its own weights)");
         trainer.init_weights(a.init);

@@ -195,6 +195,10 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
     auto &slot = m_cache[{path, set}];
     if (!slot) {
         auto c = std::make_unique<CachedScene>();
+        // The prepared draw from an earlier run (train/frame_cache.h): no regeneration, sampling or solve.
+        const bool cacheable = m_frame_cache.enabled() && m_cfg.head != "directional";
+        const std::string cache_path = cacheable ? m_frame_cache.path_for(m_model_cfg, path, set) : std::string();
+        const std::optional<FrameCacheEntry> hit = cacheable ? m_frame_cache.load(cache_path) : std::nullopt;
         PointSet points;
         // Points sampled afresh from the regenerated house as the record's were (its preset's rules),
         // at the model's M, with their emission scale where the record has one: extra point sets,
@@ -219,12 +223,12 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
                 c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
             }
             if (int(r->scene_points.size()) == m_model_cfg.scene_points) {
-                points = r->scene_points;
+                if (!hit) points = r->scene_points;
             } else {   // resample_points (checked in the constructor on the first record)
                 if (!m_cfg.resample_points)
                     LTM_THROW(path, ": ", r->scene_points.size(), " scene points, the model expects ", m_model_cfg.scene_points,
                               " (resample_points=true samples them afresh from the regenerated house)");
-                use_fresh_points(*r);
+                if (!hit) use_fresh_points(*r);
             }
             c->record = std::move(r);
         } else {
@@ -232,7 +236,18 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             const CachedScene &own = scene(index, 0);
             c->record = own.record;
             c->query_points = own.query_points, c->target = own.target, c->emission_scale = own.emission_scale;
-            use_fresh_points(*c->record);
+            if (!hit) use_fresh_points(*c->record);
+        }
+        if (hit) {
+            c->scene_points = hit->scene_points.to(m_device);
+            c->geometry.centers = hit->centers.to(m_device), c->geometry.groups = hit->groups.to(m_device);
+            c->emission_scale = hit->emission_scale.defined() ? hit->emission_scale.to(m_device) : torch::Tensor();
+            c->frame.center = hit->center.to(m_device), c->frame.length = hit->length.to(m_device);
+            c->frame.emission = hit->emission.to(m_device), c->frame.output = hit->output.to(m_device);
+            if (hit->point_prior.defined()) c->frame.point_prior = hit->point_prior.to(m_device);
+            c->query_scale = hit->query_scale.to(m_device);
+            slot = std::move(c);
+            return *slot;
         }
         const auto sp = point_tensor(points);
         c->geometry = m_model->scene_geometry(sp);   // FPS + kNN once per scene (CPU), cached
@@ -248,6 +263,14 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale, rays ? rays->occlusion : nullptr);
             c->query_scale = output_scale(c->query_points, c->frame);
             c->frame.transport.reset();   // every value needed is kept; the solve's memory is not
+            if (cacheable) {
+                FrameCacheEntry e;
+                e.scene_points = sp, e.centers = c->geometry.centers, e.groups = c->geometry.groups;
+                e.emission_scale = c->emission_scale;
+                e.center = c->frame.center, e.length = c->frame.length, e.emission = c->frame.emission, e.output = c->frame.output;
+                e.point_prior = c->frame.point_prior, e.query_scale = c->query_scale;
+                m_frame_cache.store(cache_path, e);
+            }
         }
         slot = std::move(c);
     }

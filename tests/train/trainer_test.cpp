@@ -9,6 +9,7 @@
 #include "ltm/core/file_util.h"
 #include "ltm/core/log.h"
 #include "ltm/nn/checkpoint.h"
+#include "ltm/points/safetensors.h"
 #include "ltm/train/trainer.h"
 #include "small_dataset.h"
 #include "test_util.h"
@@ -176,6 +177,69 @@ TEST(Trainer, RayPriorTracesTheRegeneratedHouse) {
     EXPECT_TRUE(std::isfinite(rays));
     EXPECT_EQ(rays, again);
     EXPECT_GT(std::abs(rays - tree), 1e-6 * std::abs(tree)) << "the rays changed nothing: " << rays;
+}
+
+// --frame-cache (train/frame_cache.h): a warm run trains exactly as the cold run that filled the
+// cache (losses and validation bit for bit), one file per (record, point set); the warm run reads
+// the files (a tampered prior there changes its numbers); another prior is another entry.
+TEST(Trainer, FrameCacheMakesAWarmRunTheColdRunsTwin) {
+    test::TempDir dir;
+    ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny-pi.json"));
+    mc.scene_points = 2048;   // resampled from the regenerated houses, as the #30 runs do
+    mc.physics.prior_theta = 0.5f;
+    TrainConfig t = small_train(3);
+    t.resample_points = true, t.point_sets = 2;
+    const std::string cache = dir.path("cache");
+    auto train = [&](const std::string &run) {
+        Trainer trainer(mc, t, {dataset_dir()}, dir.path(run));
+        trainer.set_frame_cache(cache);
+        trainer.run(false);
+        std::vector<double> out;
+        for (const auto &h : trainer.history()) out.push_back(h.loss);
+        out.push_back(trainer.validate());
+        return out;
+    };
+    std::vector<std::string> files;
+    auto entries = [&] {
+        files.clear();
+        for (const auto &e : std::filesystem::directory_iterator(cache))
+            if (e.path().extension() == ".safetensors") files.push_back(e.path().string());
+        return files.size();
+    };
+    const auto cold = train("cold");
+    const size_t written = entries();
+    EXPECT_GE(written, 2u) << "at least the validation record's two point sets";
+    const auto warm = train("warm");
+    EXPECT_EQ(entries(), written) << "a warm run writes nothing new";
+    ASSERT_EQ(cold.size(), warm.size());
+    for (size_t i = 0; i < cold.size(); ++i) EXPECT_EQ(cold[i], warm[i]) << i;
+    // Tamper with every entry's prior at the queries: the warm run must read it.
+    for (const std::string &path : files) {
+        SafetensorsFile f = read_safetensors(path);
+        StTensor &q = f.tensors.at("query_scale");
+        std::vector<float> v = q.as_f32("q");
+        for (float &x : v) x *= 2.f;
+        q = make_f32_tensor(q.shape, v.data());
+        write_safetensors(path, f);
+    }
+    EXPECT_NE(train("tampered").back(), cold.back()) << "validation read the cached prior";
+    // The key: another prior, point set or point count is another file.
+    const FrameCache fc(cache);
+    std::string record;
+    for (const auto &e : std::filesystem::directory_iterator(dataset_dir()))
+        if (e.path().extension() == ".safetensors") record = e.path().string();
+    ASSERT_FALSE(record.empty());
+    const std::string own = fc.path_for(mc, record, 0);
+    EXPECT_NE(fc.path_for(mc, record, 1), own);
+    ModelConfig other = mc;
+    other.physics.prior_theta = 0.25f;
+    EXPECT_NE(fc.path_for(other, record, 0), own);
+    other = mc;
+    other.scene_points = 4096;
+    EXPECT_NE(fc.path_for(other, record, 0), own);
+    other = mc;
+    other.decoder.dim *= 2;   // the network's shape does not change the draw
+    EXPECT_EQ(fc.path_for(other, record, 0), own);
 }
 
 // Validation logs the floors and the physics: the exact model's emission ×4 and unit ×10 errors

@@ -15,6 +15,7 @@
 #include "ltm/nn/ltm_model.h"
 #include "ltm/data/dataset.h"
 #include "ltm/train/distributed.h"
+#include "ltm/train/frame_cache.h"
 
 namespace ltm {
 
@@ -146,6 +147,9 @@ public:
     /// train the model one process with a K-scene batch trains. Rank 0 alone writes the log and
     /// checkpoints. K (scenes_per_step) must be a multiple of W. Call before run().
     void set_communicator(std::shared_ptr<Communicator> comm);
+    /// Keep each house's prepared draw (points, groups, frame, the prior at its queries) in `dir`
+    /// and reuse what an earlier run kept there (train/frame_cache.h). Call before run().
+    void set_frame_cache(const std::string &dir) { m_frame_cache = FrameCache(dir); }
     /// What every rank of a group must agree on: model config, training config, the training and
     /// validation records' file names (fingerprint_of).
     std::string fingerprint() const;
@@ -215,6 +219,7 @@ private:
     std::shared_ptr<Communicator> m_comm = std::make_shared<Communicator>(DistSettings{}, "");
     std::vector<std::string> m_train_paths, m_val_paths;
     std::map<std::pair<std::string, int>, std::unique_ptr<CachedScene>> m_cache;   // (record path, point set)
+    FrameCache m_frame_cache;   ///< on disk, across runs (disabled unless set_frame_cache)
     std::vector<TrainStepLog> m_history;
     int64_t m_step = 0;
     double m_best_val = 1e30;
