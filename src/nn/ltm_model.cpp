@@ -105,8 +105,9 @@ SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, 
                                              const torch::Tensor &emission_scale,
                                              std::shared_ptr<const SegmentOcclusion> occlusion) const {
     SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion));
-    // The points as queries, so a query at a scene point sees that point's feature.
-    if (cfg.prior_inputs) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
+    // The points as queries, so a query at a scene point sees that point's feature (and the level
+    // points their prior: decoder.level_points reads it, with or without prior inputs).
+    if (cfg.prior_inputs || cfg.decoder.level_points > 0) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
     return n;
 }
 
@@ -121,6 +122,10 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
         // The first K FPS centres: spread over the whole scene whatever K (FPS order).
         const auto first = geometry.centers.slice(0, 0, std::min<int64_t>(cfg.decoder.level_points, geometry.centers.size(0)));
         out.level_queries = scene_points.index_select(0, first).slice(1, 0, 9);                       // [K, 9]
+        // A frame given without its solve (the trainer's cache) must carry the prior at the points:
+        // output_scale would fall back to the flat scale there and weigh r otherwise than inference.
+        if (!out.norm.point_prior.defined() && !out.norm.transport && cfg.physics.prior_field == "transport")
+            LTM_THROW("encode: decoder.level_points needs the prior at the scene points (make the frame with scene_frame)");
         out.level_scale = out.norm.point_prior.defined() ? out.norm.point_prior.index_select(0, first)
                                                          : output_scale(out.level_queries, out.norm);
         out.level_scale = out.level_scale.expand({out.level_queries.size(0), 3});                    // [K, 3]

@@ -52,7 +52,9 @@ FrameCache::FrameCache(const std::string &dir) : m_dir(dir) {
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec || !fs::is_directory(dir)) LTM_THROW(dir, ": cannot create the frame cache folder (", ec.message(), ")");
-    m_program = file_identity(fs::read_symlink("/proc/self/exe"));
+    // The running program's inode (the link is followed: a binary replaced since it started still
+    // names the one that runs).
+    m_program = file_identity("/proc/self/exe");
 }
 
 std::string FrameCache::path_for(const ModelConfig &cfg, const std::string &record_path, int set) const {
@@ -64,6 +66,7 @@ std::string FrameCache::path_for(const ModelConfig &cfg, const std::string &reco
                 {"set", set},
                 {"scene_points", cfg.scene_points},
                 {"prior_inputs", cfg.prior_inputs},
+                {"point_prior", cfg.prior_inputs || cfg.decoder.level_points > 0},   // stored with the frame
                 {"embedding", model.value("embedding", Json())},
                 {"physics", model.value("physics", Json())}};
     return (fs::path(m_dir) / (fs::path(record_path).stem().string() + ".set" + std::to_string(set) + "." +
@@ -87,10 +90,17 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path) const {
         e.emission_scale = get("emission_scale", false);
         e.center = get("center", true), e.length = get("length", true), e.emission = get("emission", true);
         e.output = get("output", true), e.point_prior = get("point_prior", false), e.query_scale = get("query_scale", true);
-        if (e.scene_points.dim() != 2 || e.scene_points.size(1) != 12 || e.groups.dim() != 2 || e.groups.size(0) != e.centers.size(0))
-            LTM_THROW(path, ": tensor shapes do not fit together");
+        const int64_t m = e.scene_points.dim() == 2 ? e.scene_points.size(0) : -1;
+        const bool ok = m > 0 && e.scene_points.size(1) == 12 && e.scene_points.scalar_type() == torch::kFloat32 &&
+                        e.centers.dim() == 1 && e.centers.scalar_type() == torch::kInt64 && e.groups.dim() == 2 &&
+                        e.groups.scalar_type() == torch::kInt64 && e.groups.size(0) == e.centers.size(0) &&
+                        (e.centers.numel() == 0 || (e.centers.min().item<int64_t>() >= 0 && e.centers.max().item<int64_t>() < m)) &&
+                        (e.groups.numel() == 0 || (e.groups.min().item<int64_t>() >= 0 && e.groups.max().item<int64_t>() < m)) &&
+                        (!e.point_prior.defined() || (e.point_prior.dim() == 2 && e.point_prior.size(0) == m && e.point_prior.size(1) == 3)) &&
+                        e.query_scale.dim() >= 1 && e.query_scale.size(-1) == 3;
+        if (!ok) LTM_THROW(path, ": tensor types or shapes do not fit together");
         return e;
-    } catch (const Error &err) {
+    } catch (const std::exception &err) {
         log_warn("frame cache: ", err.what(), " — computing it again");
         return std::nullopt;
     }
@@ -105,7 +115,11 @@ void FrameCache::store(const std::string &path, const FrameCacheEntry &e) const 
     put("emission_scale", e.emission_scale), put("center", e.center), put("length", e.length);
     put("emission", e.emission), put("output", e.output), put("point_prior", e.point_prior), put("query_scale", e.query_scale);
     f.metadata["format"] = "ltm-frame-cache";
-    write_safetensors(path, f);
+    try {
+        write_safetensors(path, f);
+    } catch (const std::exception &err) {   // a full disk or a read-only folder costs speed, not the run
+        log_warn("frame cache: ", err.what(), " — not kept");
+    }
 }
 
 }  // namespace ltm

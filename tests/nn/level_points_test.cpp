@@ -139,3 +139,26 @@ TEST(LevelPoints, ASilencedDecoderIsItsPrior) {
     EXPECT_NEAR(m->level_factor(run).item<double>(), 1.0, 1e-6);
     EXPECT_LT(relative_error(m->predict_irradiance(f.qp, run), prior), 1e-6);
 }
+
+// Without prior inputs the level points still weigh r by the transport prior there (scene_frame keeps
+// it for them), so a frame without its solve — the trainer's cache — gives inference's numbers; a
+// frame with neither the solve nor the points' prior is refused rather than weighed by the flat scale.
+TEST(LevelPoints, WithoutPriorInputsTheLevelPointsReadTheTransportPrior) {
+    Fixture f;
+    ModelConfig c = f.held();
+    c.prior_inputs = false;
+    torch::NoGradGuard no_grad;
+    LtmModel m = random_model(c, 9);
+    const SceneGeometry g = m->scene_geometry(f.sp);
+    const SceneLatents lat = m->encode(f.sp, g);
+    ASSERT_TRUE(lat.norm.transport);
+    EXPECT_TRUE(torch::allclose(lat.level_scale, output_scale(lat.level_queries, lat.norm)));
+    SceneNormalization cached = m->scene_frame(f.sp, g);
+    const auto scale = output_scale(f.qp, cached);
+    cached.transport.reset();
+    const SceneLatents from_cache = m->encode(f.sp, g, {}, &cached);
+    EXPECT_TRUE(torch::equal(from_cache.level_scale, lat.level_scale));
+    EXPECT_TRUE(torch::allclose(irradiance_from_z(m->decode(f.qp, from_cache, scale), scale), m->predict_irradiance(f.qp, lat), 1e-5, 1e-6));
+    cached.point_prior = torch::Tensor();
+    EXPECT_THROW(m->encode(f.sp, g, {}, &cached), Error);
+}
