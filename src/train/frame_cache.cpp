@@ -73,7 +73,7 @@ std::string FrameCache::path_for(const ModelConfig &cfg, const std::string &reco
                                fingerprint_of(key.dump()) + ".safetensors")).string();
 }
 
-std::optional<FrameCacheEntry> FrameCache::load(const std::string &path) const {
+std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t n_queries) const {
     if (!fs::exists(path)) return std::nullopt;
     try {
         const SafetensorsFile f = read_safetensors(path);
@@ -99,6 +99,8 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path) const {
                         (!e.point_prior.defined() || (e.point_prior.dim() == 2 && e.point_prior.size(0) == m && e.point_prior.size(1) == 3)) &&
                         e.query_scale.dim() >= 1 && e.query_scale.size(-1) == 3;
         if (!ok) LTM_THROW(path, ": tensor types or shapes do not fit together");
+        if (e.query_scale.dim() == 2 && e.query_scale.size(0) != n_queries)
+            LTM_THROW(path, " holds the prior at ", e.query_scale.size(0), " queries, the record has ", n_queries);
         return e;
     } catch (const std::exception &err) {
         log_warn("frame cache: ", err.what(), " — computing it again");

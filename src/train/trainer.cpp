@@ -198,7 +198,10 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
         // The prepared draw from an earlier run (train/frame_cache.h): no regeneration, sampling or solve.
         const bool cacheable = m_frame_cache.enabled() && m_cfg.head != "directional";
         const std::string cache_path = cacheable ? m_frame_cache.path_for(m_model_cfg, path, set) : std::string();
-        std::optional<FrameCacheEntry> hit = cacheable ? m_frame_cache.load(cache_path) : std::nullopt;
+        std::optional<FrameCacheEntry> hit;
+        auto look_up = [&] {   // once the draw's queries are known: an entry must hold the prior at each
+            if (cacheable) hit = m_frame_cache.load(cache_path, c->query_points.size(0));
+        };
         PointSet points;
         // Points sampled afresh from the regenerated house as the record's were (its preset's rules),
         // at the model's M, with their emission scale where the record has one: extra point sets,
@@ -222,6 +225,7 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
                 const Vec3f s = *r->emission_scale;
                 c->emission_scale = torch::tensor({s.x, s.y, s.z}).to(m_device);
             }
+            look_up();
             if (int(r->scene_points.size()) == m_model_cfg.scene_points) {
                 if (!hit) points = r->scene_points;
             } else {   // resample_points (checked in the constructor on the first record)
@@ -236,14 +240,8 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             const CachedScene &own = scene(index, 0);
             c->record = own.record;
             c->query_points = own.query_points, c->target = own.target, c->emission_scale = own.emission_scale;
+            look_up();
             if (!hit) use_fresh_points(*c->record);
-        }
-        if (hit && hit->query_scale.dim() == 2 && hit->query_scale.size(0) != c->query_points.size(0)) {
-            log_warn("frame cache: ", cache_path, " holds the prior at ", hit->query_scale.size(0), " queries, the record has ",
-                     c->query_points.size(0), " — computing it again");
-            hit.reset();
-            if (set == 0 && int(c->record->scene_points.size()) == m_model_cfg.scene_points) points = c->record->scene_points;
-            else use_fresh_points(*c->record);
         }
         if (hit) {
             c->scene_points = hit->scene_points.to(m_device);

@@ -37,11 +37,7 @@ torch::Tensor radiance(LtmModel &m, const torch::Tensor &sp, const torch::Tensor
     return m->predict_radiance(qp, d, m->encode(sp, m->scene_geometry(sp)));
 }
 
-torch::Tensor scaled(const torch::Tensor &t, int64_t c0, int64_t c1, double k) {
-    auto out = t.clone();
-    out.slice(1, c0, c1).mul_(k);
-    return out;
-}
+using test::scaled;
 }  // namespace
 
 TEST(DirectionalHead, ConfigRoundTripsAndIsChecked) {

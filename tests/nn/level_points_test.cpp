@@ -34,19 +34,9 @@ struct Fixture : test::TinySceneFixture {
 // Random decoder weights (N(0, 0.5²)): a gain far from 1 and far from uniform.
 LtmModel random_model(const ModelConfig &cfg, uint64_t seed) { return test::model_with_random_part(cfg, seed, "decoder"); }
 
-torch::Tensor predict(LtmModel &m, const torch::Tensor &sp, const torch::Tensor &qp) {
-    return m->predict_irradiance(qp, m->encode(sp, m->scene_geometry(sp)));
-}
-
-torch::Tensor scaled(const torch::Tensor &t, int64_t c0, int64_t c1, double k) {
-    auto out = t.clone();
-    out.slice(1, c0, c1).mul_(k);
-    return out;
-}
-
-double relative_error(const torch::Tensor &a, const torch::Tensor &b) {
-    return (a - b).abs().mean().item<double>() / (b.abs().mean().item<double>() + 1e-30);
-}
+using test::predict;
+using test::scaled;
+using test::relative_error;
 }  // namespace
 
 TEST(LevelPoints, ConfigIsWrittenOnlyWhenSetAndRefusesNegatives) {

@@ -35,11 +35,7 @@ LtmModel random_model(const ModelConfig &cfg, uint64_t seed) {
     return m;
 }
 
-torch::Tensor scaled(const torch::Tensor &t, int64_t c0, int64_t c1, double k) {
-    auto out = t.clone();
-    out.slice(1, c0, c1).mul_(k);
-    return out;
-}
+using test::scaled;
 
 // (scene point features [M, 3], query inputs [N, 12]) the network sees.
 std::pair<torch::Tensor, torch::Tensor> inputs(LtmModel &m, const torch::Tensor &sp, const torch::Tensor &qp) {

@@ -1,6 +1,6 @@
 // tiny_scene_fixture.h: the tiny model's config with scene and query points of the built-in
-// quad-light room, and a model with one part's weights drawn at a larger scale, shared by the model
-// tests.
+// quad-light room, a model with one part's weights drawn at a larger scale, and the helpers the
+// symmetry tests share (predict, scaled, relative_error).
 #pragma once
 
 #include <cstdint>
@@ -34,6 +34,24 @@ inline LtmModel model_with_random_part(const ModelConfig &cfg, uint64_t seed, co
     for (auto &p : m->named_children()[part]->parameters()) p.normal_(0.0, 0.5);
     m->eval();
     return m;
+}
+
+/// E⁺ at the queries from a fresh encode of the scene points (geometry included).
+///   sp [M, 12], qp [N, 9] -> [N, 3]
+inline torch::Tensor predict(LtmModel &m, const torch::Tensor &sp, const torch::Tensor &qp) {
+    return m->predict_irradiance(qp, m->encode(sp, m->scene_geometry(sp)));
+}
+
+/// A copy of t with columns [c0, c1) times k (emission ×k: 9–12 of scene points; unit ×s: 0–3).
+inline torch::Tensor scaled(const torch::Tensor &t, int64_t c0, int64_t c1, double k) {
+    auto out = t.clone();
+    out.slice(1, c0, c1).mul_(k);
+    return out;
+}
+
+/// mean |a − b| / mean |b|.
+inline double relative_error(const torch::Tensor &a, const torch::Tensor &b) {
+    return (a - b).abs().mean().item<double>() / (b.abs().mean().item<double>() + 1e-30);
 }
 
 }  // namespace ltm::test

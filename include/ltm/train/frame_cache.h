@@ -43,8 +43,9 @@ public:
     bool enabled() const { return !m_dir.empty(); }
     /// The entry's file for record `record_path`, point set `set`, under model `cfg` (header).
     std::string path_for(const ModelConfig &cfg, const std::string &record_path, int set) const;
-    /// The entry, or nothing when the file is absent or malformed (then with one warning).
-    std::optional<FrameCacheEntry> load(const std::string &path) const;
+    /// The entry, or nothing when the file is absent, malformed or not the prior at the record's
+    /// n_queries queries (then with one warning).
+    std::optional<FrameCacheEntry> load(const std::string &path, int64_t n_queries) const;
     /// Writes the entry atomically.
     void store(const std::string &path, const FrameCacheEntry &entry) const;
 
