@@ -63,6 +63,8 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .omit_default()
             .field("region_size", &C::region_size, "regional-level term: the regions' edge in units of the length scale", positive())
             .omit_default()
+            .field("target_cap", &C::target_cap, "> 0: training targets clamped at target_cap × the scene's level (note 2); validation never", at_least(0))
+            .omit_default()
             .field("point_sets", &C::point_sets, "scene point sets per training house, one drawn per step (note 6)", between(1, 64))
             .omit_default()
             .field("resample_points", &C::resample_points, "records with another scene point count than the model's have every point set sampled afresh at the model's M (note 6); else they are refused")
@@ -333,7 +335,7 @@ TrainStepLog Trainer::train_step() {
         const auto scale = query_scale(sc, idx);
         const auto z = m_model->decode(queries, lat, scale);
         // The step's loss is the mean of the scenes' losses; gradients accumulate scene by scene.
-        const auto target = sc.target.index_select(0, idx);
+        const auto target = capped_targets(sc.target.index_select(0, idx), scale, m_cfg.target_cap);
         auto l = loss(z, target, scale);
         if (m_cfg.region_weight > 0.f)
             l = l + double(m_cfg.region_weight) * region_level_loss(torch::expm1(z), normalized_target(target, scale), scale,
@@ -412,6 +414,13 @@ torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &targ
     const auto level = s.mean(0, /*keepdim=*/true).clamp_min(1e-30);
     const auto w = (s / level).clamp_max(cap);
     return ((pred - target) * w).pow(2).mean();
+}
+
+torch::Tensor capped_targets(const torch::Tensor &target, const torch::Tensor &scale, double cap) {
+    if (!(cap > 0.0)) return target;
+    TORCH_CHECK(target.dim() == 2 && target.size(1) == 3, "target cap: target ", target.sizes(), " must be [N, 3]");
+    const auto level = scale.detach().expand_as(target).mean(0, /*keepdim=*/true);
+    return torch::minimum(target, level * cap);
 }
 
 torch::Tensor region_level_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale,
@@ -532,7 +541,8 @@ torch::Tensor Trainer::directional_step_loss(CachedScene &sc, uint64_t u, int64_
     const auto z = m_model->decode_radiance(queries, direction, lat);
     // In the head's ratio frame: L_in / scale, scale its prior's radiance (radiance_scale).
     const auto scale = radiance_scale(queries, direction, lat.norm, m_model_cfg.directional->prior_cells);
-    return directional_loss(torch::expm1(z), normalized_target(rows_tensor(target, 3).to(m_device), scale), scale);
+    const auto capped = capped_targets(rows_tensor(target, 3).to(m_device), scale, m_cfg.target_cap);
+    return directional_loss(torch::expm1(z), normalized_target(capped, scale), scale);
 }
 
 double Trainer::validate_directional() {

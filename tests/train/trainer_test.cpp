@@ -425,6 +425,42 @@ TEST(Trainer, LevelL2WeightsDarkPointsAbsolutelyAndIsMinimisedByTheMean) {
     EXPECT_THROW(level_l2_loss(torch::ones({2, 2}), torch::ones({2, 2}), scale), c10::Error);
 }
 
+// target_cap: each target clamped at cap × the scene's level per channel, the level being the
+// mean prior over the rows (as level_l2_loss's); 0 leaves the targets alone; invariant to a common
+// scale. In the trainer it changes the steps' losses and never the validation.
+TEST(Trainer, TargetCapClampsAtTheLevelAndOnlyInTraining) {
+    // Prior 3 and 1 in every channel: level 2; targets 1 and 10 (a firefly).
+    const auto scale = torch::tensor({3.f, 3.f, 3.f, 1.f, 1.f, 1.f}).view({2, 3});
+    const auto target = torch::tensor({1.f, 1.f, 1.f, 10.f, 10.f, 10.f}).view({2, 3});
+    EXPECT_TRUE(torch::equal(capped_targets(target, scale, 0.0), target));
+    const auto c = capped_targets(target, scale, 2.0);   // clamp at 4
+    EXPECT_TRUE(torch::allclose(c, torch::tensor({1.f, 1.f, 1.f, 4.f, 4.f, 4.f}).view({2, 3})));
+    EXPECT_TRUE(torch::allclose(capped_targets(target * 1e6, scale * 1e6, 2.0), c * 1e6));
+    // Per channel: a prior bright in red clamps red higher than green.
+    const auto red = torch::tensor({9.f, 1.f, 1.f, 1.f, 1.f, 1.f}).view({2, 3});
+    const auto r = capped_targets(target, red, 1.0);
+    EXPECT_FLOAT_EQ(r[1][0].item<float>(), 5.f);
+    EXPECT_FLOAT_EQ(r[1][1].item<float>(), 1.f);
+    EXPECT_THROW(capped_targets(torch::ones({2, 2}), torch::ones({2, 2}), 1.0), c10::Error);
+
+    // Wired into the training step, not into validation: a cap far below the targets changes the
+    // first step's loss; one far above them is the uncapped run bit for bit.
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    auto first_loss = [&](float cap, const std::string &name) {
+        TrainConfig t = small_train(1);
+        t.loss = "level-l2", t.target_cap = cap;
+        Trainer tr(mc, t, {dataset_dir()}, dir.path(name));
+        const double val = tr.validate();   // the initial weights: the same in every run
+        tr.run(false);
+        return std::make_pair(tr.history().at(0).loss, val);
+    };
+    const auto off = first_loss(0.f, "off"), high = first_loss(1e9f, "high"), low = first_loss(1e-3f, "low");
+    EXPECT_EQ(off.first, high.first);
+    EXPECT_NE(off.first, low.first);
+    EXPECT_EQ(off.second, low.second);
+}
+
 // ---- The directional head (issue #11 item 2) ----
 namespace {
 // Records with L_in over 4×4 bins (16 samples each: at 2 the targets were so noisy that the

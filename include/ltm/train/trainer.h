@@ -48,6 +48,11 @@ struct TrainConfig {
     /// view's own level holds a third of the prior's removable error). 0 = off.
     float region_weight = 0.f;
     float region_size = 16.f;   ///< the regions' edge in units of ℓ (region_weight > 0)
+    /// > 0: each training target is clamped at target_cap × its scene's level, per channel
+    /// (capped_targets below) before the loss sees it — a 64-spp target's fireflies (up to 100× the
+    /// level) make the loss heavy-tailed, and the view metric clamps at its 99th percentile anyway.
+    /// Validation is never capped. 0 = off.
+    float target_cap = 0.f;
     /// Point sets per training house: the record's own and point_sets − 1 more, sampled afresh
     /// from the regenerated house (seeds derived from the record's); each draw uses one at random.
     /// The prior's view level varies 5–10 % between point sets of one house (docs/results.md,
@@ -115,6 +120,14 @@ struct TrainStepLog {
 ///   pred, target [N, 3] (ratios to the prior), scale [3] or [N, 3] (output_scale) -> scalar
 /// Unbiased with noisy targets (a weighted L2); invariant to a common scale of the prior.
 torch::Tensor level_l2_loss(const torch::Tensor &pred, const torch::Tensor &target, const torch::Tensor &scale, double cap = 1.0);
+
+/// Targets clamped at cap × the scene's level: min(target, cap · L_c), L_c the mean over the rows
+/// of scale (the prior) per channel, as level_l2_loss's level. Biased low where a point's true light
+/// exceeds cap · L or its estimate's tail does (fireflies), the price of a loss without them; with
+/// the level held (decoder.level_points) the bias cannot move the scene's level. cap 0: unchanged.
+///   target [N, 3] (absolute, the units of scale), scale [3] or [N, 3] -> [N, 3]
+/// Invariant to a common scale of target and scale.
+torch::Tensor capped_targets(const torch::Tensor &target, const torch::Tensor &scale, double cap);
 
 /// The error of regional levels: queries are grouped by the cube of edge `cell` that holds them
 /// (positions [N, 3], any frame), and each region r compares its light P_r = Σ_q Σ_c pred·scale with
