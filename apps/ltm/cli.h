@@ -100,6 +100,7 @@ struct NeuralRenderArgs {
     std::string bounce = "auto";   ///< --glossy trace: Ê⁺ at the bounce's hits, auto | nodes | decode (BounceIrradiance)
     int gi_levels = 0;             ///< --gi-levels: lattices decoded coarse to fine (GiUpsampleOptions::levels); 0: auto_gi_levels
     float gi_contrast = 0.05f;     ///< --gi-contrast: where a finer lattice pixel is decoded (GiUpsampleOptions::contrast)
+    bool exr_float = false;        ///< --exr-float: every EXR channel float (write_rendered_image)
 };
 
 /// `--gi-levels` and `--gi-contrast` (render and eval).

@@ -29,6 +29,7 @@ struct RenderArgs {
     int gi_levels = 0;   ///< 0: auto
     double prior_theta = -1;
     bool prior_rays = false;
+    bool exr_float = false;
 };
 
 std::string strip_image_extension(std::string p) {
@@ -84,6 +85,9 @@ void declare(CLI::App &sub, RenderArgs &a) {
     sub.add_option("--width", a.width, "Width (default: the camera's)")->check(CLI::Range(1, 16384));
     sub.add_option("--height", a.height, "Height (default: the camera's)")->check(CLI::Range(1, 16384));
     sub.add_option("--exposure", a.exposure, "PNG exposure scale")->capture_default_str();
+    sub.add_flag("--exr-float", a.exr_float,
+                 "Every EXR channel as 32-bit float (default: colour, irradiance, direct, albedo and N as 16-bit half "
+                 "where their range fits, as pbrt-v4 and Mitsuba 3 write; P and Z always float)");
     add_output_option(sub, a.output, "Output prefix: writes <prefix>.exr and <prefix>.png");
 }
 
@@ -97,7 +101,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
         run_neural_render(
             {a.scene, a.camera, a.model, prefix, a.width, a.height, a.direct_spp, a.exposure, true, a.gi_stride,
              a.direct_estimator, a.glossy_samples, a.glossy, a.scene_points, a.prior_theta, a.prior_rays, a.bounce,
-             a.gi_levels, a.gi_contrast},
+             a.gi_levels, a.gi_contrast, a.exr_float},
             common);
         return;
     }
@@ -138,7 +142,7 @@ void run(const RenderArgs &a, const CommonOptions &common) {
     const RenderedImage img = render_pathtraced(pt, cam, a.spp);
     if (a.method == "guided")
         log_info("guided: ", format_duration(guide_seconds), " to predict the guide + ", format_duration(img.seconds), " to render");
-    write_rendered_image(img, prefix, a.exposure);
+    write_rendered_image(img, prefix, a.exposure, a.exr_float);
     write_png(prefix + ".irradiance.png", img.irradiance, tonemap_scale(img.irradiance));
     log_info("rendered ", cam.width, "x", cam.height, " at ", a.spp, " spp in ", format_duration(img.seconds), " (",
              format_count(double(accel.rays_traced()) / img.seconds), " rays/s) -> ", prefix, ".exr, ", prefix,

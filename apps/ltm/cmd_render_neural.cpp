@@ -65,7 +65,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
                  r.glossy == GlossyShading::trace ? std::string(r.bounce == BounceIrradiance::nodes ? "; E+ at its hits from the scene points" : "; E+ decoded at its hits") : "",
                  ") in ", format_duration(r.timings.glossy));
     t = Clock::now();
-    write_rendered_image(r.image, a.prefix, a.exposure);
+    write_rendered_image(r.image, a.prefix, a.exposure, a.exr_float);
     write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
     const double write_s = seconds_since(t);
     const auto &rt = r.timings;

@@ -9,6 +9,10 @@
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
 #include <ImfThreading.h>
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
@@ -25,13 +29,24 @@ void write_exr(const std::string &path, int width, int height, const std::vector
         if (Imf::globalThreadCount() != num_threads()) Imf::setGlobalThreadCount(num_threads());
         Imf::Header header(width, height);
         header.compression() = Imf::ZIP_COMPRESSION;
-        for (const auto &c : channels) header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
+        for (const auto &c : channels) header.channels().insert(c.name, Imf::Channel(c.half ? Imf::HALF : Imf::FLOAT));
         Imf::StdOFStream os(f.file(), path.c_str());
         Imf::OutputFile out(os, header);
         Imf::FrameBuffer fb;
-        for (const auto &c : channels)
-            fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char *)c.data, sizeof(float) * c.stride_floats,
-                                         sizeof(float) * c.stride_floats * size_t(width)));
+        // An output slice's type must be its channel's: half channels are converted here first.
+        const size_t n = size_t(width) * size_t(height);
+        std::vector<std::vector<Imath::half>> halves;
+        halves.reserve(channels.size());
+        for (const auto &c : channels) {
+            if (c.half) {
+                std::vector<Imath::half> &h = halves.emplace_back(n);
+                for (size_t i = 0; i < n; ++i) h[i] = Imath::half(c.data[i * c.stride_floats]);
+                fb.insert(c.name, Imf::Slice(Imf::HALF, (char *)h.data(), sizeof(Imath::half), sizeof(Imath::half) * size_t(width)));
+            } else {
+                fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char *)c.data, sizeof(float) * c.stride_floats,
+                                             sizeof(float) * c.stride_floats * size_t(width)));
+            }
+        }
         out.setFrameBuffer(fb);
         out.writePixels(height);
     } catch (const Error &) {
@@ -40,6 +55,18 @@ void write_exr(const std::string &path, int width, int height, const std::vector
         LTM_THROW(path, ": cannot write EXR: ", e.what());
     }
     f.commit();
+}
+
+bool fits_half(const float *data, size_t n, size_t stride_floats) {
+    constexpr float k_half_max = 65504.f, k_least_peak = 1.f / 128.f;
+    float peak = 0.f;
+    for (size_t i = 0; i < n; ++i) {
+        const float v = std::abs(data[i * stride_floats]);
+        if (!std::isfinite(v)) continue;
+        if (v > k_half_max) return false;
+        peak = std::max(peak, v);
+    }
+    return peak == 0.f || peak >= k_least_peak;
 }
 
 std::vector<float> read_exr_channel(const std::string &path, const std::string &name, int *width, int *height) {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "ltm/core/simd_clones.h"
 #include "ltm/nn/cpu_kernels.h"
 
 namespace ltm {
@@ -165,14 +166,8 @@ void attend(const Weights &w, const FusedDecoder::Block &blk, const float *c, co
 }
 
 // The whole decoder for rows ≤ k_tile queries.   query [rows, w.query_width], idx [rows, κ]  ->  z [rows, 3]
-// flatten inlines every helper, so each target clone gets its own vectorised copy of them. Clang
-// refuses flatten on a multiversioned function: there the helpers stay baseline code (correct,
-// slower); the shipped build is GCC's.
-#if defined(__clang__)
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-__attribute__((flatten, target_clones("arch=x86-64-v3", "default")))
-#endif
+// Each target clone gets its own vectorised copy of every helper (core/simd_clones.h).
+LTM_SIMD_CLONES
 void decode_tile(const Weights &w, Scratch &s, const float *query, const float *anchors, const int64_t *idx,
                  int kappa, int rows, float *z) {
     const int d = w.dim, g_n = w.groups, n_ffn = w.ffn_dim, qw = w.query_width;

@@ -76,15 +76,19 @@ RenderedImage render_pathtraced(const PathTracer &pt, const Camera &cam, int spp
     return out;
 }
 
-void write_rendered_image(const RenderedImage &img, const std::string &prefix, float exposure) {
-    auto rgb = [](const std::string &base, const Image &im, const char *a, const char *b, const char *c) {
+void write_rendered_image(const RenderedImage &img, const std::string &prefix, float exposure, bool exr_float) {
+    // Half halves the bytes that ZIP compresses: most of a frame's write (docs/performance.md, session 34).
+    const size_t n = size_t(img.width) * size_t(img.height);
+    auto rgb = [&](const std::string &base, const Image &im, const char *a, const char *b, const char *c, bool may_half) {
         const float *d = &im.pixels[0].x;
-        return std::vector<ExrChannel>{{base + a, d, 3}, {base + b, d + 1, 3}, {base + c, d + 2, 3}};
+        std::vector<ExrChannel> out{{base + a, d, 3}, {base + b, d + 1, 3}, {base + c, d + 2, 3}};
+        for (ExrChannel &e : out) e.half = may_half && !exr_float && fits_half(e.data, n, 3);
+        return out;
     };
-    std::vector<ExrChannel> ch = rgb("", img.color, "R", "G", "B");
-    for (const auto &group : {rgb("irradiance.", img.irradiance, "R", "G", "B"), rgb("direct.", img.direct, "R", "G", "B"),
-                              rgb("albedo.", img.albedo, "R", "G", "B"), rgb("N.", img.normal, "X", "Y", "Z"),
-                              rgb("P.", img.position, "X", "Y", "Z")})
+    std::vector<ExrChannel> ch = rgb("", img.color, "R", "G", "B", true);
+    for (const auto &group : {rgb("irradiance.", img.irradiance, "R", "G", "B", true), rgb("direct.", img.direct, "R", "G", "B", true),
+                              rgb("albedo.", img.albedo, "R", "G", "B", true), rgb("N.", img.normal, "X", "Y", "Z", true),
+                              rgb("P.", img.position, "X", "Y", "Z", false)})
         ch.insert(ch.end(), group.begin(), group.end());
     ch.push_back({"Z", img.depth.data(), 1});
     write_exr(prefix + ".exr", img.width, img.height, ch);

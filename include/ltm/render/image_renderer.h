@@ -27,8 +27,11 @@ struct RenderedImage {
 RenderedImage render_pathtraced(const PathTracer &pt, const Camera &camera, int spp, bool jitter = true);
 
 /// Writes `<prefix>.exr` (channels R,G,B, irradiance.*, direct.*, albedo.*, N.*, P.*, Z) and
-/// `<prefix>.png` (tone-mapped sRGB: exposure scale, clamp).
-void write_rendered_image(const RenderedImage &img, const std::string &prefix, float exposure);
+/// `<prefix>.png` (tone-mapped sRGB: exposure scale, clamp). The EXR's radiometric and shading
+/// channels are half where they fit (fits_half), as pbrt-v4 (film "writefp16", default true) and
+/// Mitsuba 3 (hdrfilm "component_format", default float16) write theirs; P and Z stay float (half's
+/// steps at a room's scale are centimetres). exr_float: every channel float.
+void write_rendered_image(const RenderedImage &img, const std::string &prefix, float exposure, bool exr_float = false);
 
 /// Checks a camera before a long render: throws if it sees nothing, or if it sits inside a
 /// closed solid (most rays from the eye hit back faces).
