@@ -20,6 +20,12 @@
 // accelerates: the answer is a pure function of the discs and the segment, so it maps with the
 // scene under rotations, mirrors, translations and a change of unit (with r in units of the
 // points' spacing).
+//
+// Most of a walk's time is its disc tests (a segment between two surfaces crosses the cells of
+// both, each holding ~10 coplanar discs), so each cell keeps its discs' centres and normals as
+// structure-of-arrays runs padded to 8 and tests 8 at a time (AVX2 where the CPU has it:
+// core/simd_clones.h). Each lane's arithmetic is the scalar test's, in its order and without
+// contraction (src/CMakeLists.txt), so the answers are the same bits on any CPU.
 #pragma once
 
 #include <cstdint>
@@ -51,15 +57,14 @@ private:
     /// Does the segment a + t·d, t ∈ (t0, t1), meet a disc (from the front only, or from either side)?
     bool walk(Vec3f a, Vec3f d, float t0, float t1, bool either_side) const;
     int64_t cell_index(const int c[3]) const { return (int64_t(c[2]) * m_dim[1] + c[1]) * m_dim[0] + c[0]; }
-    /// Does disc k block the segment a + t·d, t ∈ (t0, t1)? (From its front, or either side; graze:
-    /// k_grazing·|d|, below which |n·d| runs along the disc.)
-    bool hits(uint32_t k, Vec3f a, Vec3f d, float graze, float t0, float t1, bool either_side) const;
     float m_r = 0.f;
     Vec3f m_origin{0.f};   ///< the grid's lowest corner
     int m_dim[3] = {0, 0, 0};
     std::vector<Vec3f> m_center, m_normal;
-    std::vector<uint32_t> m_cell_start;   ///< [cells + 1] CSR offsets into m_cell_disc
-    std::vector<uint32_t> m_cell_disc;
+    /// [cells + 1] offsets into the runs below; each cell's run is padded to a multiple of 8 with
+    /// discs of normal 0, which meet no segment (|n·d| = 0 is below any grazing bound).
+    std::vector<uint32_t> m_cell_start;
+    std::vector<float> m_cx, m_cy, m_cz, m_nx, m_ny, m_nz;   ///< the cells' discs: centres, normals
 };
 
 }  // namespace ltm
