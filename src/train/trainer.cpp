@@ -126,6 +126,9 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
     }
     if (cfg.head == "directional") {
         if (cfg.loss == "log-relative-l2") LTM_THROW("head \"directional\": loss \"log-relative-l2\" is for E⁺ only (use relative-l2 or level-l2)");
+        // An incident-radiance bin that sees a lamp is legitimately far above the level: a cap
+        // would clip the lamps themselves, not fireflies.
+        if (cfg.target_cap > 0.f) LTM_THROW("head \"directional\": target_cap is for the irradiance head only (a bin that sees a lamp is not a firefly)");
         if (!model_cfg.directional)
             LTM_THROW("head \"directional\": model '", model_cfg.name, "' has no \"directional\" section");
         check_directional_record(first, *model_cfg.directional);   // early, before any model is built
@@ -541,8 +544,7 @@ torch::Tensor Trainer::directional_step_loss(CachedScene &sc, uint64_t u, int64_
     const auto z = m_model->decode_radiance(queries, direction, lat);
     // In the head's ratio frame: L_in / scale, scale its prior's radiance (radiance_scale).
     const auto scale = radiance_scale(queries, direction, lat.norm, m_model_cfg.directional->prior_cells);
-    const auto capped = capped_targets(rows_tensor(target, 3).to(m_device), scale, m_cfg.target_cap);
-    return directional_loss(torch::expm1(z), normalized_target(capped, scale), scale);
+    return directional_loss(torch::expm1(z), normalized_target(rows_tensor(target, 3).to(m_device), scale), scale);
 }
 
 double Trainer::validate_directional() {

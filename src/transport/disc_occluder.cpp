@@ -21,13 +21,16 @@ constexpr uint32_t k_lanes = 8;         // discs tested at once (a cell's run is
 // AVX register in the x86-64-v3 clone, two SSE registers in the baseline one).
 typedef float f8 __attribute__((vector_size(4 * k_lanes)));
 typedef int32_t m8 __attribute__((vector_size(4 * k_lanes)));
-#pragma GCC diagnostic ignored "-Wpsabi"   // internal linkage: no other translation unit sees the ABI
-inline f8 load8(const float *p) {
+// The helpers pass vectors by value, whose ABI differs between the baseline and the AVX2 clone: they
+// must be inlined into each clone (always_inline makes a failed inline a compile error, not a
+// silent mismatch), which also keeps GCC's -Wpsabi note moot.
+#pragma GCC diagnostic ignored "-Wpsabi"
+__attribute__((always_inline)) inline f8 load8(const float *p) {
     f8 v;
     std::memcpy(&v, p, sizeof v);
     return v;
 }
-inline bool any8(m8 m) {
+__attribute__((always_inline)) inline bool any8(m8 m) {
     int32_t a = 0;
     for (uint32_t l = 0; l < k_lanes; ++l) a |= m[l];
     return a != 0;
@@ -66,7 +69,7 @@ DiscOccluder::DiscOccluder(const std::vector<Vec3f> &points, const std::vector<V
         if (pass == 1) {
             m_cell_start.assign(count.size(), 0);
             for (size_t c = 0; c + 1 < count.size(); ++c) {
-                const uint64_t end = uint64_t(m_cell_start[c]) + ((count[c] + k_lanes - 1) / k_lanes) * k_lanes;
+                const uint64_t end = uint64_t(m_cell_start[c]) + ((uint64_t(count[c]) + k_lanes - 1) / k_lanes) * k_lanes;
                 if (end > std::numeric_limits<uint32_t>::max()) LTM_THROW("disc occluder: more than 2^32 disc entries in the grid");
                 m_cell_start[c + 1] = uint32_t(end);
             }

@@ -278,12 +278,14 @@ constexpr int k_lanes = PriorTree::k_group;
 typedef float f8 __attribute__((vector_size(4 * k_lanes)));
 typedef int32_t m8 __attribute__((vector_size(4 * k_lanes)));
 static_assert(sizeof(f8) == sizeof(float) * k_lanes);
-// GCC notes that a vector wider than the target's registers changes how it is passed; these helpers
-// have internal linkage (this namespace), so no other translation unit sees that ABI.
+// GCC notes that a vector wider than the target's registers changes how it is passed, and the walks'
+// AVX2 clones (record_group, gather_group) pass them differently from the baseline: the helpers must
+// be inlined into each clone, and always_inline makes a failed inline a compile error rather than a
+// silent mismatch.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-inline f8 abs8(f8 v) { return (f8)((m8)v & 0x7fffffff); }
-inline f8 sqrt8(f8 v) {
+__attribute__((always_inline)) inline f8 abs8(f8 v) { return (f8)((m8)v & 0x7fffffff); }
+__attribute__((always_inline)) inline f8 sqrt8(f8 v) {
     f8 r;
 #if defined(__SSE__)
     typedef float f4 __attribute__((vector_size(16)));
@@ -296,7 +298,7 @@ inline f8 sqrt8(f8 v) {
 #endif
     return r;
 }
-inline uint32_t bits(m8 m) {
+__attribute__((always_inline)) inline uint32_t bits(m8 m) {
     uint32_t b = 0;
     for (int l = 0; l < k_lanes; ++l) b |= m[l] ? 1u << l : 0u;
     return b;

@@ -17,7 +17,7 @@ struct ExrChannel {
 /// Whether a channel's n values (every stride_floats-th float from data) keep their precision as
 /// half: every finite |v| ≤ 65 504 (half's largest), and the largest |v| ≥ 2⁻⁷, so that half's
 /// finest step near 0 (2⁻²⁴) is ≤ 2⁻¹⁷ of the channel's peak — below any display's or metric's
-/// resolution — while values near the peak keep half's 11 significant bits (relative error ≤ 2⁻¹²).
+/// resolution — while values near the peak keep half's 11 significant bits (relative error ≤ 2⁻¹¹).
 /// An all-zero channel fits. A scene in tiny or huge units fails the test and stays float.
 bool fits_half(const float *data, size_t n, size_t stride_floats);
 

@@ -4,9 +4,11 @@
 // uses (8-lane vector types, the tree walk) run as one AVX register per 8 floats where the CPU has
 // it and as two SSE registers elsewhere. A build on any x86-64 CPU runs on any other.
 //
-// Results do not depend on the clone: IEEE operations give the same answers at either width, and a
-// file whose bits must not move with the CPU compiles with -ffp-contract=off (x86-64-v3 has FMA,
-// which contraction would otherwise use in one clone and not the other).
+// Bits: IEEE operations give the same answers at either width, so a file compiled with
+// -ffp-contract=off (the prior's tree walk, the disc occluder: src/CMakeLists.txt) gives the same
+// results in either clone. Without it, x86-64-v3's FMA contracts a·b + c in one clone and not the
+// other (the fused decoder: its results move in the last bits with the CPU). Helpers that take or
+// return vector types by value must be inlined (always_inline): their ABI differs between clones.
 //
 // Clang refuses flatten on a multiversioned function: there the helpers stay baseline code
 // (correct, slower); the shipped build is GCC's. Other architectures: no clones.

@@ -30,7 +30,7 @@ RenderedImage render_pathtraced(const PathTracer &pt, const Camera &camera, int 
 /// `<prefix>.png` (tone-mapped sRGB: exposure scale, clamp). The EXR's radiometric and shading
 /// channels are half where they fit (fits_half), as pbrt-v4 (film "writefp16", default true) and
 /// Mitsuba 3 (hdrfilm "component_format", default float16) write theirs; P and Z stay float (half's
-/// steps at a room's scale are centimetres). exr_float: every channel float.
+/// steps at a room's scale are millimetres, 2⁻⁸ between 4 and 8 units). exr_float: every channel float.
 void write_rendered_image(const RenderedImage &img, const std::string &prefix, float exposure, bool exr_float = false);
 
 /// Checks a camera before a long render: throws if it sees nothing, or if it sits inside a

@@ -51,7 +51,7 @@ struct TrainConfig {
     /// > 0: each training target is clamped at target_cap × its scene's level, per channel
     /// (capped_targets below) before the loss sees it — a 64-spp target's fireflies (up to 100× the
     /// level) make the loss heavy-tailed, and the view metric clamps at its 99th percentile anyway.
-    /// Validation is never capped. 0 = off.
+    /// Validation is never capped; the irradiance head only (refused with head "directional"). 0 = off.
     float target_cap = 0.f;
     /// Point sets per training house: the record's own and point_sets − 1 more, sampled afresh
     /// from the regenerated house (seeds derived from the record's); each draw uses one at random.
