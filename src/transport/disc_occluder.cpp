@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "ltm/core/error.h"
+#include "ltm/core/lanes8.h"
 #include "ltm/core/simd_clones.h"
 
 namespace ltm {
@@ -15,26 +15,7 @@ namespace {
 constexpr float k_grazing = 0.05f;   // |cos| below which a segment runs along a disc, not into it
 constexpr float k_end_margin = 0.25f;   // ε = r/4: hits this close to an end belong to that end's surface
 constexpr float k_ray_margin = 1e-3f;   // a ray's: only its origin's own plane (t = 0) is excluded
-constexpr uint32_t k_lanes = 8;         // discs tested at once (a cell's run is padded to a multiple)
-
-// 8 floats and their comparisons' masks (GCC's vector extensions: element-wise IEEE operations, one
-// AVX register in the x86-64-v3 clone, two SSE registers in the baseline one).
-typedef float f8 __attribute__((vector_size(4 * k_lanes)));
-typedef int32_t m8 __attribute__((vector_size(4 * k_lanes)));
-// The helpers pass vectors by value, whose ABI differs between the baseline and the AVX2 clone: they
-// must be inlined into each clone (always_inline makes a failed inline a compile error, not a
-// silent mismatch), which also keeps GCC's -Wpsabi note moot.
-#pragma GCC diagnostic ignored "-Wpsabi"
-__attribute__((always_inline)) inline f8 load8(const float *p) {
-    f8 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-__attribute__((always_inline)) inline bool any8(m8 m) {
-    int32_t a = 0;
-    for (uint32_t l = 0; l < k_lanes; ++l) a |= m[l];
-    return a != 0;
-}
+using namespace lanes8;   // 8 discs at once (core/lanes8.h); a cell's run is padded to a multiple
 }  // namespace
 
 DiscOccluder::DiscOccluder(const std::vector<Vec3f> &points, const std::vector<Vec3f> &normals, float radius)
@@ -157,8 +138,7 @@ bool DiscOccluder::walk(Vec3f a, Vec3f d, float t0, float t1, bool either_side) 
     const auto lanes_hit = [&](uint32_t s) {
         const f8 nx = load8(&m_nx[s]), ny = load8(&m_ny[s]), nz = load8(&m_nz[s]);
         const f8 denom = nx * d.x + ny * d.y + nz * d.z;
-        const f8 abs_denom = (f8)((m8)denom & 0x7fffffff);
-        const m8 facing = either_side ? (abs_denom > graze) : (denom < -graze);
+        const m8 facing = either_side ? (abs8(denom) > graze) : (denom < -graze);
         if (!any8(facing)) return false;
         const f8 cx = load8(&m_cx[s]), cy = load8(&m_cy[s]), cz = load8(&m_cz[s]);
         const f8 t = (nx * (cx - a.x) + ny * (cy - a.y) + nz * (cz - a.z)) / denom;

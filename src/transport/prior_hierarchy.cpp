@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "ltm/core/error.h"
+#include "ltm/core/lanes8.h"
 #include "ltm/core/simd_clones.h"
 #include "ltm/transport/patch_form_factor.h"
 
@@ -272,37 +273,9 @@ PriorTree::Sums PriorTree::sums(const std::vector<Vec3f> &x) const {
 }
 
 namespace {
-// k_group lanes of floats, and of their comparisons' masks (GCC's vector extensions: element-wise
-// IEEE operations, split into the target's SIMD width; a scalar operand is broadcast).
-constexpr int k_lanes = PriorTree::k_group;
-typedef float f8 __attribute__((vector_size(4 * k_lanes)));
-typedef int32_t m8 __attribute__((vector_size(4 * k_lanes)));
-static_assert(sizeof(f8) == sizeof(float) * k_lanes);
-// GCC notes that a vector wider than the target's registers changes how it is passed, and the walks'
-// AVX2 clones (record_group, gather_group) pass them differently from the baseline: the helpers must
-// be inlined into each clone, and always_inline makes a failed inline a compile error rather than a
-// silent mismatch.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
-__attribute__((always_inline)) inline f8 abs8(f8 v) { return (f8)((m8)v & 0x7fffffff); }
-__attribute__((always_inline)) inline f8 sqrt8(f8 v) {
-    f8 r;
-#if defined(__SSE__)
-    typedef float f4 __attribute__((vector_size(16)));
-    for (int h = 0; h < k_lanes; h += 4) {
-        const f4 x = {v[h], v[h + 1], v[h + 2], v[h + 3]}, y = __builtin_ia32_sqrtps(x);
-        for (int l = 0; l < 4; ++l) r[h + l] = y[l];
-    }
-#else
-    for (int l = 0; l < k_lanes; ++l) r[l] = std::sqrt(v[l]);
-#endif
-    return r;
-}
-__attribute__((always_inline)) inline uint32_t bits(m8 m) {
-    uint32_t b = 0;
-    for (int l = 0; l < k_lanes; ++l) b |= m[l] ? 1u << l : 0u;
-    return b;
-}
+// The walk's lanes: one per receiver of a group (core/lanes8.h).
+using namespace lanes8;
+static_assert(PriorTree::k_group == k_lanes, "a group's receivers are the walk's lanes");
 
 // The walking receivers lane by lane (structure of arrays). Lanes past `count` repeat the last
 // receiver: their arithmetic stays finite and is never used.
