@@ -7,6 +7,8 @@
 //   eu     the same exitance gathered without occlusion (Ê⁺ unoccluded, closure 1): where occlusion
 //          changes the answer most is where the prior's visibility, blended from clusters, decides,
 //   albedo at the receiver,
+//   ef     the part of Ê⁺ that came through the tree's aggregates (far subtrees; the rest from nodes
+//          summed exactly: the near field): how much of a receiver's light the prior carries from far,
 // and per view the normaliser of the prior inputs (S_c Σ_{k=1..D} ρ̄_c^k) and the tone-mapping scale
 // of the view metric (eval/metrics.h), so scripts/analysis/prior_error_features.py can fit the
 // prior's log error on some views and score the corrected views on others with the eval's MSE.
@@ -38,9 +40,10 @@ using namespace ltm;
 namespace {
 constexpr int k_bounces = 5;   // the shipped prior's D
 
-std::vector<Vec3f> gather(const TransportPrior &prior, const GBuffer &gb) {
+std::vector<Vec3f> gather(const TransportPrior &prior, const GBuffer &gb, std::vector<Vec3f> *far = nullptr) {
     std::vector<Vec3f> out(gb.n_hits());
-    gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &out[0].x);
+    if (far) far->assign(gb.n_hits(), Vec3f(0.f));
+    gather_transport_prior(prior, &gb.position[0].x, &gb.normal[0].x, 3, gb.n_hits(), &out[0].x, far ? &(*far)[0].x : nullptr);
     return out;
 }
 }  // namespace
@@ -61,7 +64,7 @@ int main(int argc, char **argv) {
         return 1;
     }
     // Per view a line "# view NAME pixels W*H scale S norm r g b", then one line per hit.
-    std::fprintf(out, "# columns: pixel ref_r ref_g ref_b e_r e_g e_b e1_r e1_g e1_b eu_r eu_g eu_b closure alb_r alb_g alb_b\n");
+    std::fprintf(out, "# columns: pixel ref_r ref_g ref_b e_r e_g e_b e1_r e1_g e1_b eu_r eu_g eu_b closure alb_r alb_g alb_b ef_r ef_g ef_b\n");
     try {
         for (const bench::BenchScene &bs : scene_list) {
             const std::string &name = bs.name;
@@ -78,7 +81,8 @@ int main(int argc, char **argv) {
             const size_t m = sp.points.size();
             const float spacing = float(std::sqrt(scene.total_area() / double(m)));
             const TransportPrior prior = bench::solve_shipped_prior(sp, spacing * spacing, k_bounces);
-            const std::vector<Vec3f> e = gather(prior, gb);
+            std::vector<Vec3f> ef;
+            const std::vector<Vec3f> e = gather(prior, gb, &ef);
             const std::vector<Vec3f> e1 = gather(bench::solve_shipped_prior(sp, spacing * spacing, 1), gb);
             TransportPrior ones = prior;   // exitance 1 everywhere: the gather returns the closure c(p)
             ones.exitance.assign(m, Vec3f{1.f, 1.f, 1.f});
@@ -102,10 +106,11 @@ int main(int argc, char **argv) {
                          double(tonemap_scale(ref)), double(norm[0]), double(norm[1]), double(norm[2]), m);
             for (size_t h = 0; h < gb.n_hits(); ++h) {
                 const Vec3f &r = ref_hits[h], &a = gb.albedo[h];
-                std::fprintf(out, "%lld %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.5f %.4f %.4f %.4f\n",
+                std::fprintf(out, "%lld %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.6g %.5f %.4f %.4f %.4f %.6g %.6g %.6g\n",
                              (long long)gb.hit_pixels[h], double(r.x), double(r.y), double(r.z), double(e[h].x), double(e[h].y),
                              double(e[h].z), double(e1[h].x), double(e1[h].y), double(e1[h].z), double(eu[h].x), double(eu[h].y),
-                             double(eu[h].z), double(closure[h].x), double(a.x), double(a.y), double(a.z));
+                             double(eu[h].z), double(closure[h].x), double(a.x), double(a.y), double(a.z), double(ef[h].x),
+                             double(ef[h].y), double(ef[h].z));
             }
             std::fprintf(stderr, "%s: %zu hits, %zu points\n", name.c_str(), gb.n_hits(), m);
         }

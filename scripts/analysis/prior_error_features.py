@@ -45,13 +45,16 @@ def load(path):
     return views
 
 
-# Row columns: 0 pixel, 1-3 ref, 4-6 e, 7-9 e1, 10-12 eu, 13 closure, 14-16 albedo.
+# Row columns: 0 pixel, 1-3 ref, 4-6 e, 7-9 e1, 10-12 eu, 13 closure, 14-16 albedo, 17-19 ef (the part
+# of e that came through the tree's far aggregates; tables written before session 35 lack it).
 FEATURES = {
     "occlusion": lambda r, v, d: math.log((lum(*r[10:13]) + d) / (lum(*r[4:7]) + d)),
     "open": lambda r, v, d: 1.0 - r[13],
     "first": lambda r, v, d: lum(*r[7:10]) / (lum(*r[4:7]) + d),
     "level": lambda r, v, d: math.log(lum(*r[4:7]) / v["norm"] + 1e-3),
     "albedo": lambda r, v, d: lum(*r[14:17]),
+    "far": lambda r, v, d: lum(*r[17:20]) / (lum(*r[4:7]) + d),
+    "far-level": lambda r, v, d: math.log(lum(*r[17:20]) / v["norm"] + 1e-3),
 }
 
 
@@ -167,7 +170,9 @@ def main():
         return
     train = [v for p in sys.argv[1].split(",") for v in load(p)]
     tests = [(p, load(p)) for p in sys.argv[2:]]
-    sets = [("none", [])] + [(n, [n]) for n in FEATURES] + [("all", list(FEATURES))]
+    sets = [("none", [])] + [(n, [n]) for n in FEATURES] + [("level + far", ["level", "far"]),
+                                                            ("level + far-level", ["level", "far-level"]),
+                                                            ("all", list(FEATURES))]
     print(f"fit on {sys.argv[1]} ({len(train)} views); MSE prior -> corrected (views better)")
     print("| features | coefficients | " + " | ".join(["train (in-sample)"] + [p for p, _ in tests]) + " |")
     print("|---" * (3 + len(tests)) + "|")

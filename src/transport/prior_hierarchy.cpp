@@ -651,7 +651,7 @@ void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Sc
 
 LTM_SIMD_CLONES
 void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x, double *den, double (*num)[3],
-                             Scratch &scratch) const {
+                             Scratch &scratch, double (*far)[3]) const {
     if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
     if (count == 0) return;
     SumSink sink{x, {}, {}, {}};
@@ -667,6 +667,8 @@ void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x
     for (int l = 0; l < count; ++l) {
         den[l] = sink.den[l];
         for (int c = 0; c < 3; ++c) num[l][c] = sink.agg[l][c] + sink.ex[l][c];
+        if (far)
+            for (int c = 0; c < 3; ++c) far[l][c] = sink.agg[l][c];
     }
 }
 

@@ -512,8 +512,9 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
 }
 
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
-                            size_t n, float *out) {
+                            size_t n, float *out, float *far) {
     if (stride < 3) LTM_THROW("transport prior: row stride ", stride, " < 3");
+    if (far && !prior.tree) LTM_THROW("transport prior: the far share needs the prior's tree (theta > 0)");
     const size_t m = prior.position.size();
     const ClusterVisibility &vis = prior.visibility;
     if (prior.tree) {   // through the cluster tree: far nodes as aggregates
@@ -552,11 +553,14 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                     closure[l] = rays ? (bv[l].view = {}, ray_closure[q]) : bv[l].set(vis, p, nq, nullptr);
                     rc[l] = {p, nq, bv[l].view};
                 }
-                double den[G], num[G][3];
-                prior.tree->gather_group(rc, count, sums, den, num, scratch);
+                double den[G], num[G][3], agg[G][3];
+                prior.tree->gather_group(rc, count, sums, den, num, scratch, far ? agg : nullptr);
                 for (int l = 0; l < count; ++l) {
-                    float *o = out + size_t(order[first + size_t(l)]) * 3;
+                    const size_t q = order[first + size_t(l)];
+                    float *o = out + q * 3;
                     for (int k = 0; k < 3; ++k) o[k] = den[l] > 0 ? float(double(closure[l]) * num[l][k] / den[l]) : 0.f;
+                    if (far)
+                        for (int k = 0; k < 3; ++k) far[q * 3 + k] = den[l] > 0 ? float(double(closure[l]) * agg[l][k] / den[l]) : 0.f;
                 }
             }
         });

@@ -113,6 +113,46 @@ TEST(PriorHierarchy, ApproximatesTheDenseRowsWithLessWork) {
     EXPECT_LT(double(work.aggregates + work.exact), 0.1 * double(pts.p.size())) << work.aggregates << " + " << work.exact;   // measured 4.4 %
 }
 
+// The gather's far part (gather_transport_prior's `far`): asking for it leaves E⁺ the same bits; it
+// is 0 where nothing is aggregated (θ → 0), and at θ = 0.5 it is the light of the far subtrees: a
+// share of E⁺, larger where the receiver is far from its room's walls, never more than E⁺ itself.
+TEST(PriorHierarchy, FarPartIsTheAggregatesShare) {
+    const Points pts = two_rooms(24);
+    const float area = 9.f / 576.f;
+    std::vector<Vec3f> qp, qn;
+    receivers(pts, qp, qn);
+    std::vector<float> pos, nrm;
+    for (size_t i = 0; i < qp.size(); ++i)
+        for (int c = 0; c < 3; ++c) pos.push_back(qp[i][c]), nrm.push_back(qn[i][c]);
+    const size_t n = qp.size();
+    const TransportPrior dense = solve(pts, area, 0.f, true, true, 4);
+    for (const float theta : {1e-30f, 0.5f}) {
+        const TransportPrior tree = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, area, 5, dense.visibility,
+                                                          PriorBalance::per_channel, true, theta);
+        std::vector<float> e(3 * n), e2(3 * n), far(3 * n, -1.f);
+        gather_transport_prior(tree, pos.data(), nrm.data(), 3, n, e.data());
+        gather_transport_prior(tree, pos.data(), nrm.data(), 3, n, e2.data(), far.data());
+        EXPECT_EQ(std::memcmp(e.data(), e2.data(), e.size() * sizeof(float)), 0) << theta;
+        double share = 0;   // the far part's mean share of E⁺
+        for (size_t i = 0; i < 3 * n; ++i) {
+            if (theta < 1e-20f) ASSERT_EQ(far[i], 0.f) << i;
+            EXPECT_LE(far[i], e[i] * (1 + 1e-5f) + 1e-9f) << i;
+            share += far[i] / std::max(1e-12, double(e[i])) / double(3 * n);
+        }
+        if (theta > 0.1f) {
+            EXPECT_GT(share, 0.05) << "the far subtrees carry part of the light";
+            EXPECT_LT(share, 0.95);
+            // Mid-air in the lit room (the second-to-last receiver) sees every wall from ≥ 1 m: more
+            // of its light comes from aggregates than on average.
+            const size_t mid = n - 2;
+            EXPECT_GT(far[3 * mid + 1] / e[3 * mid + 1], share);
+        }
+    }
+    EXPECT_THROW(gather_transport_prior(dense, pos.data(), nrm.data(), 3, n, std::vector<float>(3 * n).data(),
+                                        std::vector<float>(3 * n).data()),
+                 Error);
+}
+
 // Receivers that walk the tree together (record_group, gather_group) get the rows each gets alone,
 // bit for bit (memcmp of every value): neighbours on one wall, receivers far apart and facing every
 // way, views that repeat, the solve's own-cluster views over consecutive places (lanes with equal

@@ -120,8 +120,11 @@ TransportPrior solve_transport_prior(const PointSet &scene_points, float node_ar
 /// rows), out [n, 3] contiguous. A receiver that faces no node gets 0. O(n·m) at most: with
 /// occlusion the nodes are visited cluster by cluster and the clusters a receiver does not see are
 /// skipped; with the prior's tree O(n log m). Deterministic at any thread count.
+/// far [n, 3] (optional, the tree only: throws without one): the part of out that came through
+/// the tree's aggregates — light from far subtrees; out − far came from nodes summed exactly (the
+/// near field and the leaves opened for their shape). An analysis input (bench/prior_features).
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
-                            size_t n, float *out);
+                            size_t n, float *out, float *far = nullptr);
 
 /// Incident radiance L⁺ for n (receiver, direction) rows: the gather above, split by where each
 /// node lies as seen from the receiver. The nodes' shares Ĝ_j(p, n)·ex_j fall into R×R cells of
