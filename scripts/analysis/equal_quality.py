@@ -6,7 +6,7 @@ s1 and s2; the method rows named pt<spp>). Per view, PT's MSE against the refere
     e(spp) = a / spp + b
 (a: PT's variance per sample, b: what stays, mostly the reference's own noise), fitted through the two
 baselines. The spp where PT meets the model's MSE is a / (m - b) (none when m <= b: the model is below
-what PT converges to against this reference), its time that spp at PT's measured rate (the HIGH run's
+what PT converges to against this reference; none either when a <= 0, PT no better at s2 than at s1), its time that spp at PT's measured rate (the HIGH run's
 seconds per spp), and the ratio that time over the model's own seconds (both runs' mean). Prints a
 markdown table, the geometric mean of the ratios, and the same on the views' mean MSE. Issue #31's
 equal-quality target reads off it: PT needs >= 10x the model's time on generated houses.
@@ -18,7 +18,8 @@ import sys
 
 def rows(path):
     """{(scene, view): {method: row}} of one report."""
-    report = json.load(open(path))
+    with open(path) as f:
+        report = json.load(f)
     return {(v['scene'], v['view']): {m['method']: m for m in v['methods']} for v in report['views']}
 
 
@@ -57,27 +58,30 @@ def main():
         rate = p2['seconds'] / p2['spp']
         e1, e2 = p1['metrics']['mse'], p2['metrics']['mse']
         a, b = fit(p1['spp'], e1, p2['spp'], e2)
-        spp = a / (m - b) if m > b else math.inf
         for k, v in (('m', m), ('e1', e1), ('e2', e2), ('t', t), ('rate', rate)):
             means[k] += v / len(low)
-        if math.isfinite(spp):
+        name = '%s/%s' % key
+        if a <= 0:
+            print('| %s | %.4f | %.4f / %.4f | — (PT no better at more spp: no fit) | — | %.2f s | — |' % (name, m, e1, e2, t))
+        elif m <= b:
+            print('| %s | %.4f | %.4f / %.4f | — (below PT\'s limit %.4f) | — | %.2f s | — |' % (name, m, e1, e2, b, t))
+        else:
+            spp = a / (m - b)
             ratios.append(spp * rate / t)
             print('| %s | %.4f | %.4f / %.4f | %.0f spp | %.1f s | %.2f s | %.1f× |'
-                  % (key[0], m, e1, e2, spp, spp * rate, t, spp * rate / t))
-        else:
-            print('| %s | %.4f | %.4f / %.4f | — (below PT\'s limit %.4f) | — | %.2f s | — |' % (key[0], m, e1, e2, b, t))
+                  % (name, m, e1, e2, spp, spp * rate, t, spp * rate / t))
     if ratios:
-        print('\ngeometric mean ratio %.1f× over %d views (%.1f–%.1f×)'
-              % (math.exp(sum(map(math.log, ratios)) / len(ratios)), len(ratios), min(ratios), max(ratios)))
+        print('\ngeometric mean ratio %.1f× over %d of %d views (%.1f–%.1f×)'
+              % (math.exp(sum(map(math.log, ratios)) / len(ratios)), len(ratios), len(low), min(ratios), max(ratios)))
     s1, s2 = pt_row(next(iter(low.values())))['spp'], pt_row(next(iter(high.values())))['spp']
     a, b = fit(s1, means['e1'], s2, means['e2'])
-    if means['m'] > b:
+    if a > 0 and means['m'] > b:
         spp = a / (means['m'] - b)
         print('mean MSE: model %.4f, PT %d %.4f, PT %d %.4f: PT matches at %.0f spp, %.1f s against %.2f s: %.1f×'
               % (means['m'], s1, means['e1'], s2, means['e2'], spp, spp * means['rate'], means['t'],
                  spp * means['rate'] / means['t']))
     else:
-        print('mean MSE: model %.4f is below what PT converges to (%.4f)' % (means['m'], b))
+        print('mean MSE: model %.4f, no crossing (PT\'s fitted limit %.4f, slope %.4g)' % (means['m'], b, a))
 
 
 if __name__ == '__main__':

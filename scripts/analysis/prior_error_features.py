@@ -54,7 +54,7 @@ FEATURES = {
     "level": lambda r, v, d: math.log(lum(*r[4:7]) / v["norm"] + 1e-3),
     "albedo": lambda r, v, d: lum(*r[14:17]),
     "far": lambda r, v, d: lum(*r[17:20]) / (lum(*r[4:7]) + d),
-    "far-level": lambda r, v, d: math.log(lum(*r[17:20]) / v["norm"] + 1e-3),
+    "far-level": lambda r, v, d: math.log(max(0.0, lum(*r[17:20])) / v["norm"] + 1e-3),
 }
 
 
@@ -170,9 +170,13 @@ def main():
         return
     train = [v for p in sys.argv[1].split(",") for v in load(p)]
     tests = [(p, load(p)) for p in sys.argv[2:]]
-    sets = [("none", [])] + [(n, [n]) for n in FEATURES] + [("level + far", ["level", "far"]),
-                                                            ("level + far-level", ["level", "far-level"]),
-                                                            ("all", list(FEATURES))]
+    # Tables written before session 35 have no far part (17 columns): their fits leave it out.
+    has_far = all(len(v["rows"][0]) >= 20 for _, vs in [("", train)] + tests for v in vs if v["rows"])
+    names = [n for n in FEATURES if has_far or not n.startswith("far")]
+    sets = [("none", [])] + [(n, [n]) for n in names]
+    if has_far:
+        sets += [("level + far", ["level", "far"]), ("level + far-level", ["level", "far-level"])]
+    sets += [("all", names)]
     print(f"fit on {sys.argv[1]} ({len(train)} views); MSE prior -> corrected (views better)")
     print("| features | coefficients | " + " | ".join(["train (in-sample)"] + [p for p, _ in tests]) + " |")
     print("|---" * (3 + len(tests)) + "|")

@@ -49,6 +49,18 @@ Stored stored(const std::string &path, const std::string &channel, const Image &
     }
     return changed ? Stored::half16 : Stored::float32;
 }
+
+// The five shading groups of the frame (colour, irradiance, direct, albedo, N), each channel stored as `kind`.
+void expect_shading(const std::string &exr, const RenderedImage &img, Stored kind) {
+    const char *rgb[] = {"R", "G", "B"}, *xyz[] = {"X", "Y", "Z"};
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(stored(exr, rgb[c], img.color, c), kind) << rgb[c];
+        EXPECT_EQ(stored(exr, std::string("irradiance.") + rgb[c], img.irradiance, c), kind) << rgb[c];
+        EXPECT_EQ(stored(exr, std::string("direct.") + rgb[c], img.direct, c), kind) << rgb[c];
+        EXPECT_EQ(stored(exr, std::string("albedo.") + rgb[c], img.albedo, c), kind) << rgb[c];
+        EXPECT_EQ(stored(exr, std::string("N.") + xyz[c], img.normal, c), kind) << xyz[c];
+    }
+}
 }  // namespace
 
 TEST(ImageOutput, ShadingChannelsAreHalfPositionAndDepthFloat) {
@@ -56,15 +68,8 @@ TEST(ImageOutput, ShadingChannelsAreHalfPositionAndDepthFloat) {
     const RenderedImage img = frame(1.f);
     write_rendered_image(img, dir.path("f"), 1.f);
     const std::string exr = dir.path("f.exr");
-    const char *rgb[] = {"R", "G", "B"}, *xyz[] = {"X", "Y", "Z"};
-    for (int c = 0; c < 3; ++c) {
-        EXPECT_EQ(stored(exr, rgb[c], img.color, c), Stored::half16) << rgb[c];
-        EXPECT_EQ(stored(exr, std::string("irradiance.") + rgb[c], img.irradiance, c), Stored::half16);
-        EXPECT_EQ(stored(exr, std::string("direct.") + rgb[c], img.direct, c), Stored::half16);
-        EXPECT_EQ(stored(exr, std::string("albedo.") + rgb[c], img.albedo, c), Stored::half16);
-        EXPECT_EQ(stored(exr, std::string("N.") + xyz[c], img.normal, c), Stored::half16);
-        EXPECT_EQ(stored(exr, std::string("P.") + xyz[c], img.position, c), Stored::float32);
-    }
+    expect_shading(exr, img, Stored::half16);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(stored(exr, std::string("P.") + "XYZ"[c], img.position, c), Stored::float32);
     EXPECT_EQ(read_exr_channel(exr, "Z", nullptr, nullptr), img.depth);
 }
 
@@ -72,15 +77,7 @@ TEST(ImageOutput, ExrFloatWritesEveryChannelFloat) {
     test::TempDir dir;
     const RenderedImage img = frame(1.f);
     write_rendered_image(img, dir.path("f"), 1.f, /*exr_float=*/true);
-    const std::string exr = dir.path("f.exr");
-    const char *rgb[] = {"R", "G", "B"}, *xyz[] = {"X", "Y", "Z"};
-    for (int c = 0; c < 3; ++c) {
-        EXPECT_EQ(stored(exr, rgb[c], img.color, c), Stored::float32) << rgb[c];
-        EXPECT_EQ(stored(exr, std::string("irradiance.") + rgb[c], img.irradiance, c), Stored::float32);
-        EXPECT_EQ(stored(exr, std::string("direct.") + rgb[c], img.direct, c), Stored::float32);
-        EXPECT_EQ(stored(exr, std::string("albedo.") + rgb[c], img.albedo, c), Stored::float32);
-        EXPECT_EQ(stored(exr, std::string("N.") + xyz[c], img.normal, c), Stored::float32);
-    }
+    expect_shading(dir.path("f.exr"), img, Stored::float32);
 }
 
 // A channel whose peak is below 2⁻⁷ (a scene in tiny units) stays float beside half neighbours.

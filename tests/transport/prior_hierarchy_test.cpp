@@ -114,8 +114,10 @@ TEST(PriorHierarchy, ApproximatesTheDenseRowsWithLessWork) {
 }
 
 // The gather's far part (gather_transport_prior's `far`): asking for it leaves E⁺ the same bits; it
-// is 0 where nothing is aggregated (θ → 0), and at θ = 0.5 it is the light of the far subtrees: a
-// share of E⁺, larger where the receiver is far from its room's walls, never more than E⁺ itself.
+// is 0 where nothing is aggregated (θ = 1e-30: only a subtree of radius 0 could be, and this
+// fixture's leaves all hold points apart), and at θ = 0.5 it is the light of the far subtrees: a
+// share of E⁺, larger where the receiver is far from its room's walls, never more than E⁺ itself
+// (and written for every receiver: the −1 it starts at never stays).
 TEST(PriorHierarchy, FarPartIsTheAggregatesShare) {
     const Points pts = two_rooms(24);
     const float area = 9.f / 576.f;
@@ -137,6 +139,7 @@ TEST(PriorHierarchy, FarPartIsTheAggregatesShare) {
         for (size_t i = 0; i < 3 * n; ++i) {
             if (theta < 1e-20f) ASSERT_EQ(far[i], 0.f) << i;
             EXPECT_LE(far[i], e[i] * (1 + 1e-5f) + 1e-9f) << i;
+            EXPECT_GT(far[i], -0.01f * e[i] - 1e-9f) << i;
             share += far[i] / std::max(1e-12, double(e[i])) / double(3 * n);
         }
         if (theta > 0.1f) {

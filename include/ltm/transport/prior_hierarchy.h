@@ -198,7 +198,7 @@ public:
     void record_group(const Receiver *receivers, int count, Row *rows, Scratch &scratch) const;
     /// record_group() and apply() in one: per receiver l its den[l] and num[l][c] against the values
     /// x, bit for bit what they give, without keeping the rows (the gather's path: each row is used once).
-    /// far (optional): per receiver the aggregates' part of num (the rest came from exact terms).
+    /// far (optional, [count][3]): per receiver the aggregates' part of num (the rest came from exact terms).
     void gather_group(const Receiver *receivers, int count, const Sums &x, double *den, double (*num)[3], Scratch &scratch,
                       double (*far)[3] = nullptr) const;
     /// An order of n receivers (position and normal rows of `stride` floats) in which groups of

@@ -122,7 +122,8 @@ TransportPrior solve_transport_prior(const PointSet &scene_points, float node_ar
 /// skipped; with the prior's tree O(n log m). Deterministic at any thread count.
 /// far [n, 3] (optional, the tree only: throws without one): the part of out that came through
 /// the tree's aggregates — light from far subtrees; out − far came from nodes summed exactly (the
-/// near field and the leaves opened for their shape). An analysis input (bench/prior_features).
+/// near field and the leaves opened for their shape). Never above out; it may dip a little below 0,
+/// where an aggregate's first-moment term outweighs its mean. An analysis input (bench/prior_features).
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
                             size_t n, float *out, float *far = nullptr);
 
