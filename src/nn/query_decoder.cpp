@@ -44,6 +44,12 @@ void QueryDecoderImpl::start_at_prior() {
     last->bias.zero_();
 }
 
+std::vector<torch::Tensor> QueryDecoderImpl::output_parameters() {
+    auto *last = out[out->size() - 1]->as<torch::nn::LinearImpl>();
+    TORCH_CHECK(last != nullptr, "output_parameters: the decoder's output layer is not a Linear");
+    return {last->weight, last->bias};
+}
+
 bool QueryDecoderImpl::at_prior() const {
     const auto *last = out->ptr(out->size() - 1)->as<torch::nn::LinearImpl>();
     if (last == nullptr) return false;

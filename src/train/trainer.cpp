@@ -2,6 +2,7 @@
 // of (seed, t), so a resumed run repeats an uninterrupted one exactly.
 #include "ltm/train/trainer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -64,6 +65,7 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .field("region_size", &C::region_size, "regional-level term: the regions' edge in units of the length scale", positive())
             .omit_default()
             .field("target_cap", &C::target_cap, "> 0: training targets clamped at target_cap × the scene's level (note 2); validation never", at_least(0))
+            .field("output_decay", &C::output_decay, "> 0: the decoder's output layer's AdamW weight decay (a pull toward the prior), the rest keeps weight_decay", at_least(0))
             .omit_default()
             .field("point_sets", &C::point_sets, "scene point sets per training house, one drawn per step (note 6)", between(1, 64))
             .omit_default()
@@ -143,10 +145,21 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
     }
     if (cfg.head == "directional" && cfg.freeze == "encoder")
         for (auto &p : m_model->decoder->parameters()) p.requires_grad_(false);
+    // output_decay: the decoder's output layer in a group of its own, with its own decay (toward 0,
+    // i.e. toward the prior); one group otherwise, as before.
+    std::vector<torch::Tensor> out_layer;
+    if (cfg.output_decay > 0.f)
+        for (auto &p : m_model->decoder->output_parameters())
+            if (p.requires_grad()) out_layer.push_back(p);
     std::vector<torch::Tensor> trained;
     for (auto &p : m_model->parameters())
-        if (p.requires_grad()) trained.push_back(p);
-    m_opt = std::make_unique<torch::optim::AdamW>(trained, torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay));
+        if (p.requires_grad() && std::none_of(out_layer.begin(), out_layer.end(), [&](const torch::Tensor &o) { return o.is_same(p); }))
+            trained.push_back(p);
+    std::vector<torch::optim::OptimizerParamGroup> groups;
+    groups.emplace_back(trained, std::make_unique<torch::optim::AdamWOptions>(torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay)));
+    if (!out_layer.empty())
+        groups.emplace_back(out_layer, std::make_unique<torch::optim::AdamWOptions>(torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.output_decay)));
+    m_opt = std::make_unique<torch::optim::AdamW>(std::move(groups), torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay));
     create_directories(out_dir);
 }
 

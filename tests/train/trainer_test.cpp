@@ -1,4 +1,5 @@
 // trainer_test.cpp: exact resume, the tiny model overfits one scene, schedule shape.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -459,6 +460,50 @@ TEST(Trainer, TargetCapClampsAtTheLevelAndOnlyInTraining) {
     EXPECT_EQ(off.first, high.first);
     EXPECT_NE(off.first, low.first);
     EXPECT_EQ(off.second, low.second);
+}
+
+// output_decay: the decoder's output layer (whose zero is the prior) decays at its own rate; every
+// other weight is the run without it, bit for bit. AdamW decays before its step, so one step from the
+// same weights and gradients differs in the output layer by exactly lr·(D − weight_decay)·w0.
+TEST(Trainer, OutputDecayPullsOnlyTheOutputLayerTowardThePrior) {
+    test::TempDir dir;
+    const ModelConfig mc = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    const float decay = 50.f;
+    struct Step {
+        std::vector<torch::Tensor> before, after;
+        std::vector<bool> output;   // per parameter: the decoder's output layer
+    };
+    auto one_step = [&](float d, const std::string &name) {
+        TrainConfig t = small_train(1);
+        t.output_decay = d;
+        Trainer tr(mc, t, {dataset_dir()}, dir.path(name));
+        Step s;
+        const auto out = tr.model()->decoder->output_parameters();
+        for (const auto &p : tr.model()->parameters()) {
+            s.before.push_back(p.detach().clone());
+            s.output.push_back(std::any_of(out.begin(), out.end(), [&](const torch::Tensor &o) { return o.is_same(p); }));
+        }
+        tr.run(false);
+        for (const auto &p : tr.model()->parameters()) s.after.push_back(p.detach().clone());
+        return s;
+    };
+    const Step off = one_step(0.f, "off"), on = one_step(decay, "on");
+    TrainConfig t = small_train(1);
+    const double lr = learning_rate(t, 0);
+    ASSERT_EQ(off.before.size(), on.before.size());
+    int output_tensors = 0;
+    for (size_t i = 0; i < on.before.size(); ++i) {
+        ASSERT_TRUE(torch::equal(off.before[i], on.before[i])) << "the same start";
+        if (!on.output[i]) {
+            EXPECT_TRUE(torch::equal(off.after[i], on.after[i])) << "parameter " << i;
+            continue;
+        }
+        ++output_tensors;
+        ASSERT_GT(on.before[i].abs().max().item<float>(), 0.f) << "a random output layer, not the prior's zero";
+        const auto expected = on.before[i] * float(lr * (decay - t.weight_decay));
+        EXPECT_TRUE(torch::allclose(off.after[i] - on.after[i], expected, 1e-3, 1e-7)) << "parameter " << i;
+    }
+    EXPECT_EQ(output_tensors, 2);   // weight and bias
 }
 
 // ---- The directional head (issue #11 item 2) ----

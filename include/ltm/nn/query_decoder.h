@@ -53,6 +53,8 @@ struct QueryDecoderImpl : torch::nn::Module {
     /// model predicts exactly its prior (output_scale) — a start at the closed form, from which
     /// training only has to learn the correction. Gradients still reach every layer after the first step.
     void start_at_prior();
+    /// The output layer's weight and bias: the tensors start_at_prior zeroes (trainer's output_decay).
+    std::vector<torch::Tensor> output_parameters();
     /// Is 𝓦_out's last Linear exactly zero (weight and bias)? Then z = softplus(0) for every query,
     /// whatever the latents: the model is its prior (LtmModelImpl folds that constant).
     bool at_prior() const;

@@ -53,6 +53,11 @@ struct TrainConfig {
     /// level) make the loss heavy-tailed, and the view metric clamps at its 99th percentile anyway.
     /// Validation is never capped; the irradiance head only (refused with head "directional"). 0 = off.
     float target_cap = 0.f;
+    /// > 0: the decoder's output layer (the last Linear, whose zero is the prior: start_at_prior)
+    /// takes this AdamW weight decay instead of weight_decay, every other weight keeps weight_decay.
+    /// A pull toward the prior that each step pays on every house: a correction must earn its size
+    /// on all of them, not on the few whose noise it fits (docs/results.md, session 35). 0 = off.
+    float output_decay = 0.f;
     /// Point sets per training house: the record's own and point_sets − 1 more, sampled afresh
     /// from the regenerated house (seeds derived from the record's); each draw uses one at random.
     /// The prior's view level varies 5–10 % between point sets of one house (docs/results.md,
