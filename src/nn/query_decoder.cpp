@@ -36,18 +36,15 @@ torch::Tensor VectorCrossAttentionImpl::forward(const torch::Tensor &h, const to
     return (val * w.unsqueeze(-1)).sum(1).reshape({n, d});   // (eq. 13)
 }
 
-void QueryDecoderImpl::start_at_prior() {
-    torch::NoGradGuard no_grad;
-    auto *last = out[out->size() - 1]->as<torch::nn::LinearImpl>();
-    TORCH_CHECK(last != nullptr, "start_at_prior: the decoder's output layer is not a Linear");
-    last->weight.zero_();
-    last->bias.zero_();
-}
-
 std::vector<torch::Tensor> QueryDecoderImpl::output_parameters() {
     auto *last = out[out->size() - 1]->as<torch::nn::LinearImpl>();
-    TORCH_CHECK(last != nullptr, "output_parameters: the decoder's output layer is not a Linear");
+    TORCH_CHECK(last != nullptr, "the decoder's output layer is not a Linear");
     return {last->weight, last->bias};
+}
+
+void QueryDecoderImpl::start_at_prior() {
+    torch::NoGradGuard no_grad;
+    for (auto &t : output_parameters()) t.zero_();
 }
 
 bool QueryDecoderImpl::at_prior() const {

@@ -155,11 +155,11 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
     for (auto &p : m_model->parameters())
         if (p.requires_grad() && std::none_of(out_layer.begin(), out_layer.end(), [&](const torch::Tensor &o) { return o.is_same(p); }))
             trained.push_back(p);
+    const auto adamw = [&](double decay) { return torch::optim::AdamWOptions(cfg.lr).weight_decay(decay); };
     std::vector<torch::optim::OptimizerParamGroup> groups;
-    groups.emplace_back(trained, std::make_unique<torch::optim::AdamWOptions>(torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay)));
-    if (!out_layer.empty())
-        groups.emplace_back(out_layer, std::make_unique<torch::optim::AdamWOptions>(torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.output_decay)));
-    m_opt = std::make_unique<torch::optim::AdamW>(std::move(groups), torch::optim::AdamWOptions(cfg.lr).weight_decay(cfg.weight_decay));
+    groups.emplace_back(trained, std::make_unique<torch::optim::AdamWOptions>(adamw(cfg.weight_decay)));
+    if (!out_layer.empty()) groups.emplace_back(out_layer, std::make_unique<torch::optim::AdamWOptions>(adamw(cfg.output_decay)));
+    m_opt = std::make_unique<torch::optim::AdamW>(std::move(groups), adamw(cfg.weight_decay));
     create_directories(out_dir);
 }
 

@@ -557,10 +557,11 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                 prior.tree->gather_group(rc, count, sums, den, num, scratch, far ? agg : nullptr);
                 for (int l = 0; l < count; ++l) {
                     const size_t q = order[first + size_t(l)];
-                    float *o = out + q * 3;
-                    for (int k = 0; k < 3; ++k) o[k] = den[l] > 0 ? float(double(closure[l]) * num[l][k] / den[l]) : 0.f;
-                    if (far)
-                        for (int k = 0; k < 3; ++k) far[q * 3 + k] = den[l] > 0 ? float(double(closure[l]) * agg[l][k] / den[l]) : 0.f;
+                    const auto value = [&](const double *sum, float *o) {   // closure · Σ / den, per channel
+                        for (int k = 0; k < 3; ++k) o[k] = den[l] > 0 ? float(double(closure[l]) * sum[k] / den[l]) : 0.f;
+                    };
+                    value(num[l], out + q * 3);
+                    if (far) value(agg[l], far + q * 3);
                 }
             }
         });

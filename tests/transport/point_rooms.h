@@ -71,12 +71,15 @@ inline Points furnace_box() {
     return pts;
 }
 
-/// The prior's irradiance at points p with normals n: [p.size() × 3].
-inline std::vector<float> gather(const TransportPrior &t, const std::vector<Vec3f> &p, const std::vector<Vec3f> &n) {
+/// The prior's irradiance at points p with normals n: [p.size() × 3]; far (optional, resized to
+/// [p.size() × 3]): its part through the tree's aggregates (gather_transport_prior).
+inline std::vector<float> gather(const TransportPrior &t, const std::vector<Vec3f> &p, const std::vector<Vec3f> &n,
+                                 std::vector<float> *far = nullptr) {
     std::vector<float> pos, nrm, out(3 * p.size());
     for (size_t i = 0; i < p.size(); ++i)
         for (int c = 0; c < 3; ++c) pos.push_back(p[i][c]), nrm.push_back(n[i][c]);
-    gather_transport_prior(t, pos.data(), nrm.data(), 3, p.size(), out.data());
+    if (far) far->resize(3 * p.size());
+    gather_transport_prior(t, pos.data(), nrm.data(), 3, p.size(), out.data(), far ? far->data() : nullptr);
     return out;
 }
 

@@ -123,17 +123,13 @@ TEST(PriorHierarchy, FarPartIsTheAggregatesShare) {
     const float area = 9.f / 576.f;
     std::vector<Vec3f> qp, qn;
     receivers(pts, qp, qn);
-    std::vector<float> pos, nrm;
-    for (size_t i = 0; i < qp.size(); ++i)
-        for (int c = 0; c < 3; ++c) pos.push_back(qp[i][c]), nrm.push_back(qn[i][c]);
     const size_t n = qp.size();
     const TransportPrior dense = solve(pts, area, 0.f, true, true, 4);
     for (const float theta : {1e-30f, 0.5f}) {
         const TransportPrior tree = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, area, 5, dense.visibility,
                                                           PriorBalance::per_channel, true, theta);
-        std::vector<float> e(3 * n), e2(3 * n), far(3 * n, -1.f);
-        gather_transport_prior(tree, pos.data(), nrm.data(), 3, n, e.data());
-        gather_transport_prior(tree, pos.data(), nrm.data(), 3, n, e2.data(), far.data());
+        std::vector<float> far(3 * n, -1.f);
+        const std::vector<float> e = test::gather(tree, qp, qn), e2 = test::gather(tree, qp, qn, &far);
         EXPECT_EQ(std::memcmp(e.data(), e2.data(), e.size() * sizeof(float)), 0) << theta;
         double share = 0;   // the far part's mean share of E⁺
         for (size_t i = 0; i < 3 * n; ++i) {
@@ -151,9 +147,8 @@ TEST(PriorHierarchy, FarPartIsTheAggregatesShare) {
             EXPECT_GT(far[3 * mid + 1] / e[3 * mid + 1], share);
         }
     }
-    EXPECT_THROW(gather_transport_prior(dense, pos.data(), nrm.data(), 3, n, std::vector<float>(3 * n).data(),
-                                        std::vector<float>(3 * n).data()),
-                 Error);
+    std::vector<float> far;
+    EXPECT_THROW(test::gather(dense, qp, qn, &far), Error);
 }
 
 // Receivers that walk the tree together (record_group, gather_group) get the rows each gets alone,
