@@ -10,6 +10,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/nn/weights_file.h"
 #include "ltm/render/mesh_occlusion.h"
+#include "ltm/render/path_tracer.h"
 #include "ltm/render/scene_points.h"
 
 namespace ltm {
@@ -78,6 +79,17 @@ void set_prior_rays(ModelConfig &cfg) {
 std::shared_ptr<const SegmentOcclusion> prior_occlusion(const ModelConfig &cfg, const EmbreeAccel &accel) {
     if (!cfg.physics.prior_rays) return nullptr;
     return std::make_shared<MeshOcclusion>(accel);
+}
+
+PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel) {
+    if (cfg.traced_inputs <= 0) return {};
+    PathTracerConfig tc;
+    tc.seed = k_traced_inputs_seed;
+    auto pt = std::make_shared<const PathTracer>(accel, tc);
+    const int strata = cfg.traced_inputs;
+    return [pt, strata](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {
+        trace_irradiance(*pt, rows, 12, n, strata, direct, indirect);
+    };
 }
 
 PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed) {

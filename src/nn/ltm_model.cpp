@@ -34,7 +34,8 @@ torch::Tensor vec3_tensor(Vec3f v, const torch::TensorOptions &opts) { return to
 }  // namespace
 
 SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics,
-                                       const torch::Tensor &emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion) {
+                                       const torch::Tensor &emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion,
+                                       const PointTracer &tracer) {
     TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
     const auto c = sp.detach().to(torch::kCPU, torch::kFloat32).contiguous();
     PointGroups g;
@@ -52,7 +53,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     }
     // One implementation of the frame, tensor model or not (nn/scene_frame.h).
     const SceneFrame f = solve_scene_frame(c.data_ptr<float>(), size_t(c.size(0)), g, physics, emission_scale.defined() ? &given : nullptr,
-                                           std::move(occlusion));
+                                           std::move(occlusion), tracer);
     const auto opts = sp.options();
     SceneNormalization n;
     n.center = vec3_tensor(f.center, opts);
@@ -60,7 +61,13 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     n.emission = vec3_tensor(f.emission, opts);
     n.output = vec3_tensor(f.output, opts);
     n.transport = f.transport;
-    n.solve_seconds = f.solve_seconds;
+    n.solve_seconds = f.solve_seconds + f.trace_seconds;
+    if (!f.traced.empty()) {
+        const int64_t m = int64_t(f.traced.size());
+        const auto traced = torch::from_blob(const_cast<Vec3f *>(f.traced.data()), {m, 3}, torch::kFloat32);
+        const auto regathered = torch::from_blob(const_cast<Vec3f *>(f.regathered.data()), {m, 3}, torch::kFloat32);
+        n.point_traced = torch::cat({traced, regathered}, 1).to(opts);   // [M, 6] (cat copies)
+    }
     return n;
 }
 
@@ -82,6 +89,7 @@ LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
     cfg.encoder.in_channels = cfg.embedding.dim;
     cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
     cfg.embedding.extra_inputs = cfg.decoder.extra_inputs = cfg.prior_inputs ? 3 : 0;
+    if (cfg.traced_inputs > 0) cfg.embedding.extra_inputs += 6;   // the traced E⁺ and the regathered prior at each point
     embedding = register_module("embedding", NNEmbedding(cfg.embedding));
     encoder = register_module("encoder", PTv3(cfg.encoder));
     decoder = register_module("decoder", QueryDecoder(cfg.decoder, encoder->out_channels()));
@@ -103,8 +111,9 @@ SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) co
 
 SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                              const torch::Tensor &emission_scale,
-                                             std::shared_ptr<const SegmentOcclusion> occlusion) const {
-    SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion));
+                                             std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer) const {
+    SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion),
+                                               cfg.traced_inputs > 0 ? tracer : PointTracer{});
     // The points as queries, so a query at a scene point sees that point's feature (and the level
     // points their prior: decoder.level_points reads it, with or without prior inputs).
     if (cfg.prior_inputs || cfg.decoder.level_points > 0) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
@@ -113,9 +122,13 @@ SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, 
 
 SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                   const torch::Tensor &emission_scale, const SceneNormalization *frame,
-                                  std::shared_ptr<const SegmentOcclusion> occlusion) {
+                                  std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer) {
     SceneLatents out;
-    out.norm = frame ? *frame : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion));
+    // (Non-finite scene points take the network's path, which reports them.)
+    const bool fold = fold_prior && !torch::GradMode::is_enabled() && decoder->at_prior() && torch::isfinite(scene_points).all().item<bool>();
+    // Folded without a directional head, no input is read: the traced inputs are not traced.
+    out.norm = frame ? *frame
+                     : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion), fold && !directional ? PointTracer{} : tracer);
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     if (cfg.decoder.level_points > 0) {
@@ -130,8 +143,6 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
                                                          : output_scale(out.level_queries, out.norm);
         out.level_scale = out.level_scale.expand({out.level_queries.size(0), 3});                    // [K, 3]
     }
-    // (Non-finite scene points take the network's path, which reports them.)
-    const bool fold = fold_prior && !torch::GradMode::is_enabled() && decoder->at_prior() && torch::isfinite(scene_points).all().item<bool>();
     if (fold && !directional) {
         // The decoder's output does not depend on the latents (fold_prior in the header).
         out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
@@ -142,6 +153,15 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
         TORCH_CHECK(out.norm.point_prior.dim() == 2 && out.norm.point_prior.size(0) == x.size(0) && out.norm.point_prior.size(1) == 3,
                     "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", out.norm.point_prior.sizes());
         x = torch::cat({x, prior_features(out.norm.point_prior, out.norm)}, 1);   // [M, 15]
+    }
+    if (cfg.traced_inputs > 0) {
+        const auto &t = out.norm.point_traced;
+        if (!t.defined())
+            LTM_THROW("model '", cfg.name, "' has traced inputs (traced_inputs ", cfg.traced_inputs,
+                      "): encoding a scene needs its path tracer (render, eval, bake-gi and training draws pass it; scene points alone have none)");
+        TORCH_CHECK(t.dim() == 2 && t.size(0) == x.size(0) && t.size(1) == 6,
+                    "encode: point_traced must be [M, 6] for M = ", x.size(0), ", got ", t.sizes());
+        x = torch::cat({x, prior_features(t.slice(1, 0, 3), out.norm), prior_features(t.slice(1, 3, 6), out.norm)}, 1);   // [M, 21]
     }
     if (fold) {
         // Only the directional head reads the latents, and only when asked: its encoder run waits.

@@ -89,6 +89,8 @@ const ConfigFields<ModelConfig> &ModelConfig::fields() {
                                          .field("scene_points", &C::scene_points, "M scene points the model is trained with (must match the dataset)", at_least(16))
                                          .field("prior_inputs", &C::prior_inputs, "scene points and queries also carry the transport prior's Ê⁺ there, log1p(Ê⁺ / S·Σρ̄^k): the network sees what it corrects")
                                          .omit_default()
+                                         .field("traced_inputs", &C::traced_inputs, "> 0: paths traced per scene point (strata); every scene point also carries its traced E⁺ and the prior regathered from the traced light, in the prior inputs' normalisation (needs prior_inputs; inference and training trace the scene)", between(0, 4096))
+                                         .omit_default()
                                          .field("auto_scene_points", &C::auto_scene_points, "at inference the point count follows each scene as --scene-points auto does, unless --scene-points is given (training uses scene_points)")
                                          .omit_default();
     return f;
@@ -156,6 +158,8 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
                                                          });
     if (c.prior_inputs && c.physics.prior_field != "transport")
         LTM_THROW(o.where("prior_inputs"), ": prior inputs need physics.prior_field \"transport\" (the prior they carry)");
+    if (c.traced_inputs > 0 && !c.prior_inputs)
+        LTM_THROW(o.where("traced_inputs"), ": traced inputs need prior_inputs (they stand beside the prior's own, in its normalisation)");
     if (c.directional && c.directional->prior_cells > 0 && c.physics.prior_field != "transport")
         LTM_THROW(o.where("directional"), ": prior_cells needs physics.prior_field \"transport\" (the directional prior splits its gather)");
 }

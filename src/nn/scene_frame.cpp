@@ -111,10 +111,41 @@ std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_
                                                                 : PriorBalance::per_channel,
                               physics.prior_patches, physics.prior_theta));
 }
+
+// ModelConfig::traced_inputs: trace every scene point, then regather. The transport's nodes are the
+// scene points in order (prior_nodes "points", or the anchors' fallback that takes every point) or
+// the FPS centres; node i's exitance becomes ρ_i ⊙ (E_dir + E⁺)_i as traced, and the prior's own
+// gather (its visibility, tree and near field) carries it to every scene point once more.
+void trace_and_regather(const float *sp, size_t n_points, const PointGroups &groups, const PointTracer &tracer, SceneFrame &f) {
+    std::vector<Vec3f> direct(n_points), indirect(n_points);
+    tracer(sp, n_points, direct.data(), indirect.data());
+    for (size_t i = 0; i < n_points; ++i)
+        if (!(std::isfinite(direct[i].x + direct[i].y + direct[i].z) && std::isfinite(indirect[i].x + indirect[i].y + indirect[i].z)))
+            LTM_THROW("traced irradiance at scene point ", i, " is not finite");
+    auto regather = std::make_shared<TransportPrior>(*f.transport);
+    const size_t m = regather->position.size();
+    const bool every_point = m == n_points;
+    if (!every_point && m != groups.centers.size())
+        LTM_THROW("traced inputs: the prior has ", m, " nodes, neither the ", n_points, " points nor the ", groups.centers.size(), " centres");
+    for (size_t i = 0; i < m; ++i) {
+        const size_t j = every_point ? i : size_t(groups.centers[i]);
+        const float *row = sp + j * 12;
+        regather->exitance[i] = Vec3f(row[6], row[7], row[8]) * (direct[j] + indirect[j]);
+    }
+    if (regather->tree) regather->tree_sums = std::make_shared<const PriorTree::Sums>(regather->tree->sums(regather->exitance));
+    std::vector<float> rows(n_points * 6);
+    for (size_t i = 0; i < n_points; ++i) {
+        for (size_t a = 0; a < 3; ++a) rows[i * 6 + a] = (sp[i * 12 + a] - f.center[int(a)]) / f.length;
+        for (size_t a = 3; a < 6; ++a) rows[i * 6 + a] = sp[i * 12 + a];
+    }
+    f.regathered.resize(n_points);
+    gather_transport_prior(*regather, rows.data(), rows.data() + 3, 6, n_points, &f.regathered[0].x);
+    f.traced = std::move(indirect);
+}
 }  // namespace
 
 SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
-                             const Vec3f *emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion) {
+                             const Vec3f *emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer) {
     if (n_points == 0) LTM_THROW("scene points: none");
     for (size_t i = 0; i < n_points * 12; ++i)
         if (!std::isfinite(sp[i])) LTM_THROW("scene points contain NaN or Inf");
@@ -163,6 +194,12 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
             f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion));
             f.solve_seconds = seconds_since(t);
         }
+    }
+    if (tracer) {
+        if (!f.transport) LTM_THROW("traced inputs need physics.prior_field \"transport\" (the prior they regather)");
+        const auto t = std::chrono::steady_clock::now();
+        trace_and_regather(sp, n_points, groups, tracer, f);
+        f.trace_seconds = seconds_since(t);
     }
     return f;
 }

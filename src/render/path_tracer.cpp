@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ltm/core/error.h"
+#include "ltm/core/parallel.h"
 #include "ltm/core/rng.h"
 #include "ltm/core/sampling.h"
 #include "ltm/render/hemisphere_bins.h"
@@ -205,6 +206,17 @@ std::vector<Vec3f> PathTracer::incident_radiance_bins(Vec3f p, Vec3f n, uint64_t
         bins[size_t(b)] = sum / float(samples_per_bin);
     }
     return bins;
+}
+
+void trace_irradiance(const PathTracer &pt, const float *rows, size_t stride, size_t n, int strata, Vec3f *direct, Vec3f *indirect) {
+    if (stride < 6) LTM_THROW("trace_irradiance: rows need p and n (stride >= 6), got ", stride);
+    parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const float *r = rows + size_t(i) * stride;
+            const IrradianceEstimate est = pt.irradiance(Vec3f(r[0], r[1], r[2]), Vec3f(r[3], r[4], r[5]), uint64_t(i), strata);
+            direct[i] = est.direct, indirect[i] = est.indirect;
+        }
+    });
 }
 
 }  // namespace ltm

@@ -67,6 +67,7 @@ std::string FrameCache::path_for(const ModelConfig &cfg, const std::string &reco
                 {"scene_points", cfg.scene_points},
                 {"prior_inputs", cfg.prior_inputs},
                 {"point_prior", cfg.prior_inputs || cfg.decoder.level_points > 0},   // stored with the frame
+                {"traced_inputs", cfg.traced_inputs},
                 {"embedding", model.value("embedding", Json())},
                 {"physics", model.value("physics", Json())}};
     return (fs::path(m_dir) / (fs::path(record_path).stem().string() + ".set" + std::to_string(set) + "." +
@@ -90,6 +91,7 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t
         e.emission_scale = get("emission_scale", false);
         e.center = get("center", true), e.length = get("length", true), e.emission = get("emission", true);
         e.output = get("output", true), e.point_prior = get("point_prior", false), e.query_scale = get("query_scale", true);
+        e.point_traced = get("point_traced", false);
         const int64_t m = e.scene_points.dim() == 2 ? e.scene_points.size(0) : -1;
         const bool ok = m > 0 && e.scene_points.size(1) == 12 && e.scene_points.scalar_type() == torch::kFloat32 &&
                         e.centers.dim() == 1 && e.centers.scalar_type() == torch::kInt64 && e.groups.dim() == 2 &&
@@ -97,6 +99,7 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t
                         (e.centers.numel() == 0 || (e.centers.min().item<int64_t>() >= 0 && e.centers.max().item<int64_t>() < m)) &&
                         (e.groups.numel() == 0 || (e.groups.min().item<int64_t>() >= 0 && e.groups.max().item<int64_t>() < m)) &&
                         (!e.point_prior.defined() || (e.point_prior.dim() == 2 && e.point_prior.size(0) == m && e.point_prior.size(1) == 3)) &&
+                        (!e.point_traced.defined() || (e.point_traced.dim() == 2 && e.point_traced.size(0) == m && e.point_traced.size(1) == 6)) &&
                         e.query_scale.dim() >= 1 && e.query_scale.size(-1) == 3;
         if (!ok) LTM_THROW(path, ": tensor types or shapes do not fit together");
         if (e.query_scale.dim() == 2 && e.query_scale.size(0) != n_queries)
@@ -116,6 +119,7 @@ void FrameCache::store(const std::string &path, const FrameCacheEntry &e) const 
     put("scene_points", e.scene_points), put("centers", e.centers), put("groups", e.groups);
     put("emission_scale", e.emission_scale), put("center", e.center), put("length", e.length);
     put("emission", e.emission), put("output", e.output), put("point_prior", e.point_prior), put("query_scale", e.query_scale);
+    put("point_traced", e.point_traced);
     f.metadata["format"] = "ltm-frame-cache";
     try {
         write_safetensors(path, f);

@@ -15,6 +15,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/core/rng.h"
 #include "ltm/eval/field_metrics.h"
+#include "ltm/infer/prior_model.h"
 #include "ltm/nn/checkpoint.h"
 #include "ltm/nn/point_tensor.h"
 #include "ltm/render/embree_accel.h"
@@ -173,6 +174,18 @@ void Trainer::init_weights(const std::string &path) {
     std::map<std::string, torch::Tensor> tensors;
     for (const auto &p : w->named_parameters()) tensors[p.key()] = p.value();
     for (const auto &b : w->named_buffers()) tensors[b.key()] = b.value();
+    if (m_model_cfg.traced_inputs > 0 && w->cfg.traced_inputs == 0 && w->cfg.prior_inputs) {
+        // The documented conversion (docs/config.md, traced_inputs): the embedding's first layer reads
+        // the traced inputs in 6 columns after the prior's; they start at zero weight, so the model
+        // starts as the weights it came from, whatever its scene traces.
+        const std::string name = "embedding.f.0.weight";
+        torch::Tensor &t = tensors.at(name);
+        const int64_t want = 12 + m_model->cfg.embedding.extra_inputs;
+        if (t.dim() == 2 && t.size(1) == want - 6) {
+            t = torch::cat({t, torch::zeros({t.size(0), 6}, t.options())}, 1);
+            log_info(path, ": no traced inputs; ", name, " widened by 6 zero columns (the model starts as these weights)");
+        }
+    }
     if (m_cfg.head == "directional" && !w->directional) {
         // A new head on trained irradiance weights: it keeps its fresh (uniform-radiance) start.
         for (const auto &p : m_model->directional->named_parameters()) tensors["directional." + p.key()] = p.value().detach().clone();
@@ -192,12 +205,13 @@ struct Trainer::HouseRays {
 };
 
 std::unique_ptr<Trainer::HouseRays> Trainer::house_rays(const SceneRecord &record, const std::string &where) const {
-    if (!m_model_cfg.physics.prior_rays) return nullptr;
+    if (!m_model_cfg.physics.prior_rays && m_model_cfg.traced_inputs <= 0) return nullptr;
     Scene house;
     try {
         house = regenerate_scene(record);
     } catch (const std::exception &e) {
-        LTM_THROW(where, ": physics.prior_rays traces the prior's rays against the record's house, which cannot be regenerated: ", e.what());
+        LTM_THROW(where, ": ", m_model_cfg.physics.prior_rays ? "physics.prior_rays traces the prior's rays" : "traced_inputs traces paths",
+                  " against the record's house, which cannot be regenerated: ", e.what());
     }
     return std::make_unique<HouseRays>(std::move(house));
 }
@@ -268,6 +282,7 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             c->frame.center = hit->center.to(m_device), c->frame.length = hit->length.to(m_device);
             c->frame.emission = hit->emission.to(m_device), c->frame.output = hit->output.to(m_device);
             if (hit->point_prior.defined()) c->frame.point_prior = hit->point_prior.to(m_device);
+            if (hit->point_traced.defined()) c->frame.point_traced = hit->point_traced.to(m_device);
             c->query_scale = hit->query_scale.to(m_device);
             slot = std::move(c);
             return *slot;
@@ -283,7 +298,9 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             // physics.prior_rays: the prior's visibility by rays against the regenerated house's meshes,
             // needed only while the prior is solved and gathered here.
             const auto rays = house_rays(*c->record, path);
-            c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale, rays ? rays->occlusion : nullptr);
+            // traced_inputs: a few paths per scene point through the house (the draw's frame keeps them).
+            c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale, rays ? rays->occlusion : nullptr,
+                                            rays ? traced_inputs_tracer(m_model_cfg, *rays->accel) : PointTracer{});
             c->query_scale = output_scale(c->query_points, c->frame);
             c->frame.transport.reset();   // every value needed is kept; the solve's memory is not
             if (cacheable) {
@@ -292,6 +309,7 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
                 e.emission_scale = c->emission_scale;
                 e.center = c->frame.center, e.length = c->frame.length, e.emission = c->frame.emission, e.output = c->frame.output;
                 e.point_prior = c->frame.point_prior, e.query_scale = c->query_scale;
+                e.point_traced = c->frame.point_traced;
                 m_frame_cache.store(cache_path, e);
             }
         }
@@ -478,20 +496,33 @@ OrderedJson Trainer::invariance_errors(CachedScene &sc, int64_t nq) {
     const std::string where = "validation record " + std::to_string(sc.record->seed);
     const auto rays = house_rays(*sc.record, where), rays10 = rays ? scaled_rays(*rays, 10.f) : nullptr;
     auto occlusion = [](const std::unique_ptr<HouseRays> &r) { return r ? r->occlusion : nullptr; };
-    const auto base = m_model->predict_irradiance(qp, m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale, nullptr, occlusion(rays)));
+    // traced_inputs: the house's own tracer; emission ×4 traces four times the light (path tracing is
+    // linear in emission: the same paths, ×4), lengths ×10 the scaled house.
+    auto tracer = [&](const std::unique_ptr<HouseRays> &r, float gain) -> PointTracer {
+        if (!r) return {};
+        PointTracer t = traced_inputs_tracer(m_model_cfg, *r->accel);
+        if (!t || gain == 1.f) return t;
+        return [t, gain](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {
+            t(rows, n, direct, indirect);
+            for (size_t i = 0; i < n; ++i) direct[i] = direct[i] * gain, indirect[i] = indirect[i] * gain;
+        };
+    };
+    const auto base = m_model->predict_irradiance(
+        qp, m_model->encode(sc.scene_points, sc.geometry, sc.emission_scale, nullptr, occlusion(rays), tracer(rays, 1.f)));
     const double mean = base.abs().mean().item<double>() + 1e-30;
     // Emission ×4: E⁺ ×4 (bit-exact for a power of two when emission_scale is on).
     auto sp4 = sc.scene_points.clone();
     sp4.slice(1, 9, 12).mul_(4.0);
     const auto s4 = sc.emission_scale.defined() ? sc.emission_scale * 4.0 : torch::Tensor();
-    const auto e4 = m_model->predict_irradiance(qp, m_model->encode(sp4, sc.geometry, s4, nullptr, occlusion(rays)));
+    const auto e4 = m_model->predict_irradiance(qp, m_model->encode(sp4, sc.geometry, s4, nullptr, occlusion(rays), tracer(rays, 4.f)));
     // Lengths ×10 (positions of scene and query points): E⁺ unchanged. FPS/kNN are recomputed.
     auto sp10 = sc.scene_points.clone(), qp10 = qp.clone();
     sp10.slice(1, 0, 3).mul_(10.0);
     qp10.slice(1, 0, 3).mul_(10.0);
     SceneGeometry g10 = m_model->scene_geometry(sp10.cpu());
     g10.centers = g10.centers.to(m_device), g10.groups = g10.groups.to(m_device);
-    const auto e10 = m_model->predict_irradiance(qp10, m_model->encode(sp10, g10, sc.emission_scale, nullptr, occlusion(rays10)));
+    const auto e10 =
+        m_model->predict_irradiance(qp10, m_model->encode(sp10, g10, sc.emission_scale, nullptr, occlusion(rays10), tracer(rays10, 1.f)));
     return {{"val_emission_x4_error", (e4 - 4.0 * base).abs().mean().item<double>() / (4.0 * mean)},
             {"val_unit_x10_error", (e10 - base).abs().mean().item<double>() / mean}};
 }

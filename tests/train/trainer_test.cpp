@@ -649,3 +649,32 @@ TEST(Trainer, DirectionalHeadLearnsTheBinsOfItsScenes) {
     EXPECT_LT(last, 0.7 * first) << "first " << first << " last " << last;
     std::cout << "directional head: loss " << first << " -> " << last << "\n";
 }
+
+// traced_inputs: each draw traces its regenerated house. Weights without traced inputs widen by zero
+// columns (Trainer::init_weights, the documented conversion), so the model starts as they were —
+// the same validation to rounding — and training then moves the new columns.
+TEST(Trainer, TracedInputsStartAsTheWeightsTheyWidenAndLearn) {
+    test::TempDir dir;
+    ModelConfig pi = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    pi.physics = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json")).physics;
+    pi.prior_inputs = true;
+    ModelConfig traced = pi;
+    traced.traced_inputs = 2;
+    Trainer a(pi, small_train(0), {dataset_dir()}, dir.path("a"));
+    {
+        torch::NoGradGuard g;
+        torch::manual_seed(9);
+        for (auto &p : a.model()->parameters())
+            if (p.dim() == 2) p.add_(torch::randn_like(p) * 0.2);
+    }
+    const double before = a.validate();
+    save_weights(dir.path("w.safetensors"), a.model());
+    Trainer b(traced, small_train(2), {dataset_dir()}, dir.path("b"));
+    b.init_weights(dir.path("w.safetensors"));
+    const auto columns = [&] { return b.model()->embedding->named_parameters()["f.0.weight"].detach().slice(1, 15, 21).clone(); };
+    ASSERT_EQ(columns().size(1), 6);
+    EXPECT_EQ(columns().abs().max().item<float>(), 0.f) << "the traced inputs start at zero weight";
+    EXPECT_NEAR(b.validate(), before, 1e-6 * std::abs(before)) << "the widened model is the model it came from";
+    b.run(false);
+    EXPECT_GT(columns().abs().max().item<float>(), 0.f) << "training reaches the traced inputs";
+}

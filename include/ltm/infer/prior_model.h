@@ -76,6 +76,11 @@ struct PriorScene {
 /// `accel` must outlive the frame); null otherwise.
 std::shared_ptr<const SegmentOcclusion> prior_occlusion(const ModelConfig &cfg, const EmbreeAccel &accel);
 PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);
+/// The tracer of a model's traced inputs (ModelConfig::traced_inputs strata per scene point) in this
+/// scene: its own random streams (k_traced_inputs_seed, never a reference's or a record's), `accel`
+/// must outlive it; empty when the model has none.
+inline constexpr uint64_t k_traced_inputs_seed = 0x7ace5eed0001ull;
+PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel);
 /// The prior's Ê⁺ (nn/scene_frame.h prior_irradiance) as a decoder; shares the frame. `timings`
 /// (optional) accumulates its calls' seconds as `decode`, as the tensor model's folded path timed them.
 IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame, DecodeTimings *timings = nullptr);

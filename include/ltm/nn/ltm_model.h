@@ -15,6 +15,7 @@
 #include "ltm/nn/nn_embedding.h"
 #include "ltm/nn/ptv3.h"
 #include "ltm/nn/query_decoder.h"
+#include "ltm/nn/scene_frame.h"
 #include "ltm/transport/transport_prior.h"
 
 namespace ltm {
@@ -41,6 +42,9 @@ struct SceneNormalization {
     /// [M, 3] the prior at every scene point (output_scale of the points as queries, raw units):
     /// the encoder's prior inputs (ModelConfig::prior_inputs; LtmModelImpl::scene_frame sets it).
     torch::Tensor point_prior;
+    /// [M, 6] ModelConfig::traced_inputs: the traced E⁺ (columns 0–2) and the regathered prior (3–5)
+    /// at every scene point, raw units (SceneFrame::traced, regathered); undefined without a tracer.
+    torch::Tensor point_traced;
     /// Seconds the transport prior's solve took (part of the encode): the model's own prior, the
     /// network silenced, costs sampling, this and its gather (`ltm eval`'s model-prior row).
     double solve_seconds = 0;
@@ -74,7 +78,7 @@ struct SceneLatents {
 /// scene's own frame); required with prior_rays, unused without.
 SceneNormalization scene_normalization(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                        const PhysicsConfig &physics, const torch::Tensor &emission_scale = {},
-                                       std::shared_ptr<const SegmentOcclusion> occlusion = {});
+                                       std::shared_ptr<const SegmentOcclusion> occlusion = {}, const PointTracer &tracer = {});
 /// Model inputs in the normalised frame: (p − centre)/ℓ, n, albedo, log1p(e / S).
 ///   scene_points [M, 12] -> [M, 12]
 torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const SceneNormalization &norm);
@@ -95,17 +99,19 @@ struct LtmModelImpl : torch::nn::Module {
     /// The scene's normalisation with all the network reads from it: scene_normalization, and with
     /// prior_inputs the prior at every scene point (point_prior).
     ///   scene_points [M, 12] raw, emission_scale [3] (optional) -> SceneNormalization
+    /// With traced_inputs the scene's tracer is required (the traced inputs, point_traced).
     SceneNormalization scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                    const torch::Tensor &emission_scale = {},
-                                   std::shared_ptr<const SegmentOcclusion> occlusion = {}) const;
+                                   std::shared_ptr<const SegmentOcclusion> occlusion = {}, const PointTracer &tracer = {}) const;
     //   scene_points [M, 12] raw, emission_scale [3] (S = Φ/A, optional) -> latents at m anchors
     /// frame: scene_frame() computed beforehand for these very points, so the prior is not solved
     /// again (the trainer's cache: it solves once per scene and moves the frame with its
     /// symmetries); null: computed here.
-    /// occlusion: the scene's meshes, for physics.prior_rays (scene_normalization).
+    /// occlusion: the scene's meshes, for physics.prior_rays (scene_normalization); tracer: the
+    /// scene's path tracer, for traced_inputs (scene_frame).
     SceneLatents encode(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                         const torch::Tensor &emission_scale = {}, const SceneNormalization *frame = nullptr,
-                        std::shared_ptr<const SegmentOcclusion> occlusion = {});
+                        std::shared_ptr<const SegmentOcclusion> occlusion = {}, const PointTracer &tracer = {});
     //   query_points [N, 9] raw -> z [N, 3] = log1p(E⁺ / output_scale); kNN among anchors computed here.
     /// scale: output_scale(query_points, latents.norm) when already known ([N, 3], or [3] for the
     /// flat prior); read only with prior_inputs, as the queries' prior input; undefined: gathered

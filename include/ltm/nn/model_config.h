@@ -22,7 +22,8 @@ struct EmbeddingConfig {
     /// PhysicsConfig::translation_invariant (off: 𝓕 sees normal, albedo, emission only).
     bool absolute_position = true;
     /// Columns after the scene point's 12 (p, n, albedo, emission). Not a JSON key: LtmModel sets
-    /// it to 3 when ModelConfig::prior_inputs (the prior's Ê⁺ at the point), else 0.
+    /// it to 3 when ModelConfig::prior_inputs (the prior's Ê⁺ at the point), 9 with traced_inputs
+    /// (also the traced E⁺ and the regathered prior), else 0.
     int extra_inputs = 0;
     /// The JSON keys (core/config_fields.h).
     static const ConfigFields<EmbeddingConfig> &fields();
@@ -179,6 +180,13 @@ struct ModelConfig {
     /// the inputs unchanged. false: the paper's inputs (p, n, albedo[, emission]) only. Needs
     /// physics.prior_field "transport".
     bool prior_inputs = false;
+    /// N > 0: a few traced paths per scene point, information the prior cannot compute (issue #30,
+    /// docs/results.md session 36). Every scene point also carries, beside the prior's Ê⁺ there, its
+    /// traced E⁺ (N strata) and the prior regathered from the traced light (the prior's nodes
+    /// re-emitting ρ ⊙ their traced E_dir + E⁺, gathered at the point), each as log1p(· / S·Σρ̄^k):
+    /// irradiances like the prior's, so emission ×k and unit ×s leave them unchanged. Encoding a
+    /// scene then needs its tracer (SceneFrame: PointTracer). 0: off. Needs prior_inputs.
+    int traced_inputs = 0;
     /// At inference (render, bake-gi, eval, the guide) the point count follows each scene as
     /// `--scene-points auto` does (render/scene_points.h: 16 384, or 32 768 from 100 k triangles,
     /// the prior through its tree) unless --scene-points is given; scene_points stays the count the

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -31,6 +32,11 @@ struct PointGroups {
 /// M) nearest points of each centre (points/knn_points.h).
 PointGroups point_groups(const float *positions, size_t n_points, const EmbeddingConfig &cfg);
 
+/// Traced irradiance at scene points (ModelConfig::traced_inputs): rows [n, 12] raw scene points
+/// (p, n, …) -> direct [n], indirect [n] (E_dir and E⁺, W/m²), deterministic at any thread count.
+/// The scene's path tracer behind it (render/path_tracer.h trace_irradiance), its own random streams.
+using PointTracer = std::function<void(const float *rows, size_t n, Vec3f *direct, Vec3f *indirect)>;
+
 /// What the model's inputs are divided by and its output multiplied by (nn/ltm_model.h's
 /// SceneNormalization holds the same values as tensors).
 struct SceneFrame {
@@ -41,14 +47,22 @@ struct SceneFrame {
     /// physics.prior_field "transport": the prior solved among the nodes, in the normalised frame.
     std::shared_ptr<const TransportPrior> transport;
     double solve_seconds = 0;   ///< the transport solve's share of the frame's time
+    /// With a PointTracer: [M] the traced E⁺ at every scene point and [M] the prior regathered from
+    /// the traced light there (the transport's nodes re-emitting ρ ⊙ (E_dir + E⁺) traced at each
+    /// node, gathered once more: the last bounce the prior's, the rest traced), raw units. Empty
+    /// without a tracer.
+    std::vector<Vec3f> traced, regathered;
+    double trace_seconds = 0;   ///< the tracing's and regather's share of the frame's time
 };
 
 /// The frame of scene points [M, 12] (scene_point_columns(): p, n, albedo, emission; raw units) with
 /// their groups. emission_scale: S = Φ/A from the meshes (null: π · mean point emission). occlusion:
 /// the scene's meshes for physics.prior_rays (required then). Throws ltm::Error on non-finite points,
-/// negative emission, a bad emission scale or a scene of zero extent.
+/// negative emission, a bad emission scale or a scene of zero extent. tracer (optional): also the
+/// traced and regathered irradiance at every scene point (needs physics.prior_field "transport").
 SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
-                             const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {});
+                             const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {},
+                             const PointTracer &tracer = {});
 
 /// The prior that the model's output multiplies, at query rows already in the normalised frame
 /// ((p − centre)/ℓ, n, albedo: `stride` floats a row): the transport prior's gather floored at

@@ -89,4 +89,10 @@ inline float power_heuristic(float a, float b) {
 /// FNV-1a of a string: stable scene ids from names.
 uint64_t stable_hash(const std::string &s);
 
+/// E_dir and E⁺ at n points, `strata` strata each (PathTracer::irradiance, point i on stream i):
+/// rows hold p at floats 0–2 and the unit normal at 3–5, `stride` floats a row; direct [n],
+/// indirect [n]. Parallel, the same numbers at any thread count. The model's traced inputs
+/// (nn/model_config.h traced_inputs) are these at its scene points.
+void trace_irradiance(const PathTracer &pt, const float *rows, size_t stride, size_t n, int strata, Vec3f *direct, Vec3f *indirect);
+
 }  // namespace ltm

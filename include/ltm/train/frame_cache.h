@@ -32,6 +32,7 @@ struct FrameCacheEntry {
     torch::Tensor emission_scale;   ///< [3] f32, or undefined (records without one)
     torch::Tensor center, length, emission, output;   ///< the frame (SceneNormalization): [3], [], [3], [3]
     torch::Tensor point_prior;      ///< [M, 3] f32, or undefined (without prior_inputs)
+    torch::Tensor point_traced;     ///< [M, 6] f32, or undefined (without traced_inputs)
     torch::Tensor query_scale;      ///< [nq, 3] or [3] f32: the prior at the record's queries
 };
 

@@ -1,0 +1,154 @@
+// traced_inputs_test.cpp: ModelConfig::traced_inputs (issue #30, session 36) — every scene point
+// also carries its traced E⁺ and the prior regathered from the traced light. The inputs keep the
+// exact symmetries when the scene itself is scaled (path tracing is linear in emission and blind to
+// the unit), they are the same at any thread count, a model at its prior does not trace, and a
+// model without its scene's tracer says so. The trainer's side (draws, the widening conversion):
+// tests/train/trainer_test.cpp.
+#include <atomic>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "ltm/core/error.h"
+#include "ltm/core/parallel.h"
+#include "ltm/infer/prior_model.h"
+#include "ltm/nn/ltm_model.h"
+#include "ltm/render/embree_accel.h"
+#include "ltm/scene/scene_transform.h"
+#include "test_util.h"
+#include "tiny_scene_fixture.h"
+
+using namespace ltm;
+
+namespace {
+// The tiny model with the shipped prior's physics (as prior_inputs_test.cpp), prior and traced inputs.
+struct Fixture : test::TinySceneFixture {
+    Fixture() : TinySceneFixture(200) {
+        const ModelConfig shipped = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json"));
+        cfg.physics = shipped.physics;
+        cfg.prior_inputs = true;
+        cfg.traced_inputs = 4;
+    }
+};
+
+LtmModel random_model(const ModelConfig &cfg, uint64_t seed) {
+    torch::manual_seed(seed);
+    LtmModel m(cfg);
+    torch::NoGradGuard g;
+    for (auto &p : m->named_parameters())
+        if (p.value().dim() == 2) p.value().normal_(0.0, 0.5);
+    m->eval();
+    return m;
+}
+
+// The traced inputs the encoder reads (log1p of traced E⁺ and regathered prior over S·Σρ̄^k), [M, 6].
+torch::Tensor traced_features(const SceneLatents &lat) {
+    const auto &t = lat.norm.point_traced;
+    return torch::cat({prior_features(t.slice(1, 0, 3), lat.norm), prior_features(t.slice(1, 3, 6), lat.norm)}, 1);
+}
+
+double max_abs(const torch::Tensor &t) { return t.abs().max().item<double>(); }
+}  // namespace
+
+TEST(TracedInputs, ConfigNeedsPriorInputsAndStaysOutOfOlderJson) {
+    Fixture f;
+    const auto j = f.cfg.to_json();
+    EXPECT_EQ(j.at("traced_inputs").get<int>(), 4);
+    EXPECT_EQ(ModelConfig::from_json(j, "t").traced_inputs, 4);
+    auto no_prior = j;
+    no_prior.erase("prior_inputs");
+    EXPECT_THROW(ModelConfig::from_json(no_prior, "t"), Error);
+    auto too_many = j;
+    too_many["traced_inputs"] = 5000;
+    EXPECT_THROW(ModelConfig::from_json(too_many, "t"), Error);
+    const ModelConfig pi = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json"));
+    EXPECT_FALSE(pi.to_json().contains("traced_inputs")) << "written only when set: older weights keep their JSON";
+    EXPECT_EQ(LtmModel(f.cfg)->cfg.embedding.extra_inputs, 9) << "the prior's 3 and the traced 6";
+}
+
+// Emission ×4 in the scene (its tracer traces 4× the light) and ×4 in the points: the traced inputs
+// are the same and E⁺ is 4×. Lengths ×8 (scene, points, queries; a power of two, so positions scale
+// exactly and the prior's voxel grid maps onto itself): the inputs and E⁺ unchanged. The
+// counter-check: emission ×4 in the points while the tracer keeps the old scene changes the inputs.
+TEST(TracedInputs, InputsKeepTheSymmetriesWhenTheSceneIsScaled) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 3);
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const auto geometry = m->scene_geometry(f.sp);
+    const SceneLatents lat = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    ASSERT_TRUE(lat.norm.point_traced.defined());
+    ASSERT_EQ(lat.norm.point_traced.sizes(), (c10::IntArrayRef{f.sp.size(0), 6}));
+    const auto base = traced_features(lat);
+    EXPECT_GT(max_abs(base.slice(1, 0, 3)), 0.05) << "the room's points receive indirect light";
+    EXPECT_GT(max_abs(base.slice(1, 3, 6)), 0.05);
+    const auto e = m->predict_irradiance(f.qp, lat);
+
+    Scene bright = f.scene;
+    scale_emission(bright, 4.f);
+    const EmbreeAccel accel4(bright);
+    const auto sp4 = test::scaled(f.sp, 9, 12, 4.0);
+    const SceneLatents lat4 = m->encode(sp4, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel4));
+    EXPECT_LT(max_abs(traced_features(lat4) - base), 1e-4);
+    EXPECT_LT(test::relative_error(m->predict_irradiance(f.qp, lat4), 4.0 * e), 1e-4);
+    const SceneLatents stale = m->encode(sp4, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    EXPECT_GT(max_abs(traced_features(stale) - base), 0.05) << "the inputs do read the tracer";
+
+    Scene big = f.scene;
+    scale_lengths(big, 8.f);
+    const EmbreeAccel accel8(big);
+    const auto sp8 = test::scaled(f.sp, 0, 3, 8.0), qp8 = test::scaled(f.qp, 0, 3, 8.0);
+    const SceneLatents lat8 = m->encode(sp8, m->scene_geometry(sp8), {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel8));
+    // The tracer's ray offsets are absolute lengths, so a path or two that graze an edge go
+    // elsewhere (2 of the 1 024 points move by more than 10⁻³ here); every other input is the same.
+    const auto d = (traced_features(lat8) - base).abs();
+    EXPECT_LT(d.mean().item<double>(), 1e-4);
+    EXPECT_LT((std::get<0>(d.max(1)) > 1e-3).sum().item<int64_t>(), d.size(0) / 100);
+    EXPECT_LT(test::relative_error(m->predict_irradiance(qp8, lat8), e), 3e-2) << "a random network amplifies those few points";
+}
+
+TEST(TracedInputs, TheSameAtAnyThreadCount) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 5);
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const auto geometry = m->scene_geometry(f.sp);
+    const int threads = num_threads();
+    set_num_threads(1);
+    const auto one = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel)).norm.point_traced;
+    set_num_threads(2);
+    const auto two = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel)).norm.point_traced;
+    set_num_threads(threads);
+    EXPECT_TRUE(torch::equal(one, two));
+}
+
+// A model at its prior reads no input (fold_prior): it must not pay for tracing. With its network
+// active it traces once per encode, and without a tracer it names what is missing.
+TEST(TracedInputs, TracedOnlyWhenTheNetworkReadsThemAndNamedWhenMissing) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 7);
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const PointTracer inner = traced_inputs_tracer(f.cfg, accel);
+    std::atomic<int> calls{0};
+    const PointTracer counting = [&](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {
+        ++calls;
+        inner(rows, n, direct, indirect);
+    };
+    const auto geometry = m->scene_geometry(f.sp);
+    m->encode(f.sp, geometry, {}, nullptr, nullptr, counting);
+    EXPECT_EQ(calls.load(), 1);
+    try {
+        m->encode(f.sp, geometry);
+        ADD_FAILURE() << "encoded a traced-inputs model without its tracer";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("traced inputs"), std::string::npos) << e.what();
+    }
+    m->decoder->start_at_prior();
+    calls = 0;
+    const SceneLatents folded = m->encode(f.sp, geometry, {}, nullptr, nullptr, counting);
+    EXPECT_EQ(calls.load(), 0);
+    EXPECT_FALSE(folded.norm.point_traced.defined());
+    EXPECT_NO_THROW(m->predict_irradiance(f.qp, folded));
+}
