@@ -97,7 +97,8 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     log_info("neural render ", cam.width, "x", cam.height, " (", r.n_queries, " queries, ", r.n_decoded, " decoded, ", r.n_scene_points,
              " scene points) in ", format_duration(rt.total), ": encode ", format_duration(rt.sample + rt.geometry + rt.encode),
              " (sample ", format_duration(rt.sample), ", fps/knn ", format_duration(rt.geometry), ", prior solve ",
-             format_duration(rt.prior_solve), ", ptv3 ", format_duration(rt.encode - rt.prior_solve), "), g-buffer ", format_duration(rt.gbuffer), ", knn ", format_duration(rt.knn),
+             format_duration(rt.prior_solve), rt.trace > 0 ? ", traced inputs " + format_duration(rt.trace) : std::string(), ", ptv3 ",
+             format_duration(rt.encode - rt.prior_solve - rt.trace), "), g-buffer ", format_duration(rt.gbuffer), ", knn ", format_duration(rt.knn),
              ", decode ", format_duration(rt.decode), ", direct ", format_duration(rt.direct));
     log_info("outside the render: ", before_command >= 0 ? "process start to command " + format_duration(before_command) + ", " : std::string(),
              "weights ", format_duration(load_model_s), ", scene ", format_duration(load_scene_s), ", BVH ", format_duration(accel_s),

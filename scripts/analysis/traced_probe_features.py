@@ -13,8 +13,8 @@ given those inputs can learn at least that much of.
   scripts/analysis/traced_probe_features.py TRAIN.tsv[,TRAIN2.tsv] TEST.tsv [TEST2.tsv ...]
   scripts/analysis/traced_probe_features.py --halves VIEWS.tsv      (fit each half, score the other)
 
-Row columns: 0 pixel, 1-3 ref, 4-6 prior, 7-9 regathered, 10.. gains for k = 64, 256, 1024, all
-(the bench's default k list; other lists shift the names).
+Row columns: 0 pixel, 1-3 ref, 4-6 prior, 7-9 regathered, 10.. the gains for each k the bench ran: the
+names below assume the list 64,256,1024,0 (pass it to the bench: its default list is 16,64,256,0).
 """
 import math
 import os

@@ -79,6 +79,8 @@ double sq_err(const Vec3f *a, const Vec3f *b, size_t n) {
 DirectionalEvalResult evaluate_directional(LtmModel &model, const std::string &data_dir, const DirectionalEvalOptions &opt) {
     if (!model->directional) LTM_THROW("model '", model->cfg.name, "' has no directional head (train one: ltm train --head directional)");
     if (opt.points_per_record < 1 || opt.l_max < 0) LTM_THROW("directional eval: need points >= 1 and l_max >= 0");
+    if (model->cfg.traced_inputs > 0)
+        LTM_THROW("directional eval: model '", model->cfg.name, "' has traced inputs, which this evaluation of records does not trace");
     const DirectionalConfig &dc = *model->cfg.directional;
     const auto paths = list_records(data_dir);
     if (paths.empty()) LTM_THROW(data_dir, ": no dataset records (scene-*.safetensors)");

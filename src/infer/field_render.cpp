@@ -52,7 +52,7 @@ std::vector<Vec3f> decode_gbuffer_upsampled(const IrradianceDecoder &decode, con
 
 OrderedJson NeuralTimings::to_json() const {
     return {{"gbuffer_s", gbuffer}, {"sample_s", sample}, {"geometry_s", geometry}, {"encode_s", encode},
-            {"prior_solve_s", prior_solve}, {"knn_s", knn}, {"decode_s", decode}, {"direct_s", direct}, {"glossy_s", glossy},
+            {"prior_solve_s", prior_solve}, {"trace_s", trace}, {"knn_s", knn}, {"decode_s", decode}, {"direct_s", direct}, {"glossy_s", glossy},
             {"model_s", model()},   {"total_s", total}};
 }
 
@@ -216,6 +216,7 @@ NeuralRender render_with_gi(const GiSource &src, const PathTracer &pt, const Cam
     const auto t0 = Clock::now();
     r.timings.sample = src.sample_seconds, r.timings.geometry = src.geometry_seconds, r.timings.encode = src.encode_seconds;
     r.timings.prior_solve = src.prior_solve_seconds;
+    r.timings.trace = src.trace_seconds;
     auto t = Clock::now();
     const GBuffer gb = render_gbuffer(pt.accel(), camera);
     r.timings.gbuffer = seconds_since(t);

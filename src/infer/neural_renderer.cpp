@@ -124,6 +124,7 @@ NeuralRender render_neural(LtmModel &model, const PathTracer &pt, const Camera &
     src.points = &enc.points, src.spacing = enc.spacing, src.n_scene_points = enc.n_scene_points;
     src.sample_seconds = enc.sample_seconds, src.geometry_seconds = enc.geometry_seconds, src.encode_seconds = enc.encode_seconds;
     src.prior_solve_seconds = enc.latents.norm.solve_seconds;
+    src.trace_seconds = enc.latents.norm.trace_seconds;
     NeuralRender r = render_with_gi(src, pt, camera, opt);
     r.timings.total = seconds_since(t0);   // the encode included
     r.image.seconds = r.timings.total;

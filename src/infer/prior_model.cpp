@@ -85,6 +85,9 @@ PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &acce
     if (cfg.traced_inputs <= 0) return {};
     PathTracerConfig tc;
     tc.seed = k_traced_inputs_seed;
+    // E⁺ up to D − 1 scattering events: the regather's node re-emits ρ(E_dir + E⁺), and its gather
+    // adds the last, so the regathered prior spans the prior's own 1 … D events (physics.prior_bounces).
+    tc.max_depth = tc.rr_depth = std::max(1, cfg.physics.prior_bounces - 1);
     auto pt = std::make_shared<const PathTracer>(accel, tc);
     const int strata = cfg.traced_inputs;
     return [pt, strata](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {

@@ -61,7 +61,8 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     n.emission = vec3_tensor(f.emission, opts);
     n.output = vec3_tensor(f.output, opts);
     n.transport = f.transport;
-    n.solve_seconds = f.solve_seconds + f.trace_seconds;
+    n.solve_seconds = f.solve_seconds;
+    n.trace_seconds = f.trace_seconds;
     if (!f.traced.empty()) {
         const int64_t m = int64_t(f.traced.size());
         const auto traced = torch::from_blob(const_cast<Vec3f *>(f.traced.data()), {m, 3}, torch::kFloat32);

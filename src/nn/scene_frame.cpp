@@ -64,7 +64,8 @@ namespace {
 // spacing (measured from them, so the grid does not move with ℓ); with prior_discs, segments are
 // tested against every scene point as a disc of that many spacings instead.
 std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_points, const PointGroups &groups, const SceneFrame &f,
-                                                      const PhysicsConfig &physics, std::shared_ptr<const SegmentOcclusion> occlusion) {
+                                                      const PhysicsConfig &physics, std::shared_ptr<const SegmentOcclusion> occlusion,
+                                                      bool &every_point) {
     PointSet all;
     all.columns = scene_point_columns();
     all.values.resize(n_points * 12);
@@ -87,6 +88,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_
         }
         if (!missing) nodes = &anchors;
     }
+    every_point = nodes == &all;   // else node i is the FPS centre groups.centers[i]
     const double point_area = k_pi * 2.25 / double(groups.k);
     const double area = point_area * double(n_points) / double(nodes->size());
     VisibilityOptions vis;
@@ -116,7 +118,8 @@ std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_
 // scene points in order (prior_nodes "points", or the anchors' fallback that takes every point) or
 // the FPS centres; node i's exitance becomes ρ_i ⊙ (E_dir + E⁺)_i as traced, and the prior's own
 // gather (its visibility, tree and near field) carries it to every scene point once more.
-void trace_and_regather(const float *sp, size_t n_points, const PointGroups &groups, const PointTracer &tracer, SceneFrame &f) {
+void trace_and_regather(const float *sp, size_t n_points, const PointGroups &groups, bool every_point, const PointTracer &tracer,
+                        SceneFrame &f) {
     std::vector<Vec3f> direct(n_points), indirect(n_points);
     tracer(sp, n_points, direct.data(), indirect.data());
     for (size_t i = 0; i < n_points; ++i)
@@ -124,9 +127,8 @@ void trace_and_regather(const float *sp, size_t n_points, const PointGroups &gro
             LTM_THROW("traced irradiance at scene point ", i, " is not finite");
     auto regather = std::make_shared<TransportPrior>(*f.transport);
     const size_t m = regather->position.size();
-    const bool every_point = m == n_points;
-    if (!every_point && m != groups.centers.size())
-        LTM_THROW("traced inputs: the prior has ", m, " nodes, neither the ", n_points, " points nor the ", groups.centers.size(), " centres");
+    if (m != (every_point ? n_points : groups.centers.size()))
+        LTM_THROW("traced inputs: the prior has ", m, " nodes, not its ", every_point ? n_points : groups.centers.size(), (every_point ? " points" : " centres"));
     for (size_t i = 0; i < m; ++i) {
         const size_t j = every_point ? i : size_t(groups.centers[i]);
         const float *row = sp + j * 12;
@@ -138,8 +140,9 @@ void trace_and_regather(const float *sp, size_t n_points, const PointGroups &gro
         for (size_t a = 0; a < 3; ++a) rows[i * 6 + a] = (sp[i * 12 + a] - f.center[int(a)]) / f.length;
         for (size_t a = 3; a < 6; ++a) rows[i * 6 + a] = sp[i * 12 + a];
     }
+    // Floored as the prior's own inputs are (prior_scale_normalized): 10⁻³ of the flat level.
     f.regathered.resize(n_points);
-    gather_transport_prior(*regather, rows.data(), rows.data() + 3, 6, n_points, &f.regathered[0].x);
+    prior_scale_normalized(regather.get(), f.output, rows.data(), 6, n_points, f.regathered.data());
     f.traced = std::move(indirect);
 }
 }  // namespace
@@ -153,6 +156,7 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
         for (size_t c = 9; c < 12; ++c)
             if (!(sp[i * 12 + c] >= 0.f)) LTM_THROW("scene point emission must be >= 0");
     SceneFrame f;
+    bool nodes_are_points = true;
     Vec3f lo(sp[0], sp[1], sp[2]), hi = lo;
     for (size_t i = 1; i < n_points; ++i) {
         const Vec3f p(sp[i * 12], sp[i * 12 + 1], sp[i * 12 + 2]);
@@ -191,14 +195,14 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
         if (physics.prior_bounces > 0) f.output = f.emission * power_balance_factor(column_mean(sp, n_points, 6), physics.prior_bounces);
         if (physics.prior_field == "transport") {
             const auto t = std::chrono::steady_clock::now();
-            f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion));
+            f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion), nodes_are_points);
             f.solve_seconds = seconds_since(t);
         }
     }
     if (tracer) {
         if (!f.transport) LTM_THROW("traced inputs need physics.prior_field \"transport\" (the prior they regather)");
         const auto t = std::chrono::steady_clock::now();
-        trace_and_regather(sp, n_points, groups, tracer, f);
+        trace_and_regather(sp, n_points, groups, nodes_are_points, tracer, f);
         f.trace_seconds = seconds_since(t);
     }
     return f;

@@ -74,7 +74,7 @@ std::string FrameCache::path_for(const ModelConfig &cfg, const std::string &reco
                                fingerprint_of(key.dump()) + ".safetensors")).string();
 }
 
-std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t n_queries) const {
+std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t n_queries, bool traced) const {
     if (!fs::exists(path)) return std::nullopt;
     try {
         const SafetensorsFile f = read_safetensors(path);
@@ -102,6 +102,7 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t
                         (!e.point_traced.defined() || (e.point_traced.dim() == 2 && e.point_traced.size(0) == m && e.point_traced.size(1) == 6)) &&
                         e.query_scale.dim() >= 1 && e.query_scale.size(-1) == 3;
         if (!ok) LTM_THROW(path, ": tensor types or shapes do not fit together");
+        if (traced && !e.point_traced.defined()) LTM_THROW(path, ": no traced inputs, and the model has them");
         if (e.query_scale.dim() == 2 && e.query_scale.size(0) != n_queries)
             LTM_THROW(path, " holds the prior at ", e.query_scale.size(0), " queries, the record has ", n_queries);
         return e;

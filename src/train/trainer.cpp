@@ -134,6 +134,9 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
         if (cfg.target_cap > 0.f) LTM_THROW("head \"directional\": target_cap is for the irradiance head only (a bin that sees a lamp is not a firefly)");
         if (!model_cfg.directional)
             LTM_THROW("head \"directional\": model '", model_cfg.name, "' has no \"directional\" section");
+        // The head's draws encode each symmetry afresh (no cached frame) from the record's points alone.
+        if (model_cfg.traced_inputs > 0)
+            LTM_THROW("head \"directional\": model '", model_cfg.name, "' has traced inputs, which its draws do not trace (train the head on a model without them)");
         check_directional_record(first, *model_cfg.directional);   // early, before any model is built
     }
     torch::manual_seed(cfg.seed);
@@ -232,7 +235,7 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
         const std::string cache_path = cacheable ? m_frame_cache.path_for(m_model_cfg, path, set) : std::string();
         std::optional<FrameCacheEntry> hit;
         auto look_up = [&] {   // once the draw's queries are known: an entry must hold the prior at each
-            if (cacheable) hit = m_frame_cache.load(cache_path, c->query_points.size(0));
+            if (cacheable) hit = m_frame_cache.load(cache_path, c->query_points.size(0), m_model_cfg.traced_inputs > 0);
         };
         PointSet points;
         // Points sampled afresh from the regenerated house as the record's were (its preset's rules),

@@ -14,6 +14,7 @@
 #include "ltm/core/parallel.h"
 #include "ltm/infer/prior_model.h"
 #include "ltm/nn/ltm_model.h"
+#include "ltm/nn/scene_frame.h"
 #include "ltm/render/embree_accel.h"
 #include "ltm/scene/scene_transform.h"
 #include "test_util.h"
@@ -151,4 +152,64 @@ TEST(TracedInputs, TracedOnlyWhenTheNetworkReadsThemAndNamedWhenMissing) {
     EXPECT_EQ(calls.load(), 0);
     EXPECT_FALSE(folded.norm.point_traced.defined());
     EXPECT_NO_THROW(m->predict_irradiance(f.qp, folded));
+}
+
+// The regather's bookkeeping: a tracer that hands every node exactly the irradiance whose ρ-fold is
+// the prior's own exitance there (E = exitance / ρ, nodes found by their positions, not by the
+// code's node order) must give back the prior at every scene point. Nodes as every point and as
+// the FPS centres, dense rows and the cluster tree (whose sums the regather recomputes).
+TEST(TracedInputs, RegatheringThePriorsOwnLightIsThePrior) {
+    Fixture f;
+    const auto sp = f.sp.contiguous();
+    const size_t n = size_t(sp.size(0));
+    const float *rows = sp.data_ptr<float>();
+    std::vector<float> xyz(n * 3);
+    for (size_t j = 0; j < n; ++j)
+        for (size_t a = 0; a < 3; ++a) xyz[j * 3 + a] = rows[j * 12 + a];
+    // sample_ratio 1: the FPS centres are every point, in FPS order — as many nodes as points, yet
+    // node i is not point i.
+    EmbeddingConfig every = f.cfg.embedding;
+    every.sample_ratio = 1.f;
+    const PointGroups half = point_groups(xyz.data(), n, f.cfg.embedding), all = point_groups(xyz.data(), n, every);
+    for (const char *nodes : {"points", "anchors", "all anchors"})
+        for (float theta : {0.f, 0.5f}) {
+            const PointGroups &groups = std::string(nodes) == "all anchors" ? all : half;
+            PhysicsConfig ph = f.cfg.physics;
+            ph.prior_nodes = std::string(nodes) == "points" ? "points" : "anchors", ph.prior_theta = theta;
+            const SceneFrame base = solve_scene_frame(rows, n, groups, ph);
+            const TransportPrior &prior = *base.transport;
+            std::vector<Vec3f> given(n, Vec3f(0.f));
+            size_t matched = 0;
+            for (size_t i = 0; i < prior.position.size(); ++i)
+                for (size_t j = 0; j < n; ++j) {
+                    const float *r = rows + j * 12;
+                    const Vec3f x((r[0] - base.center.x) / base.length, (r[1] - base.center.y) / base.length, (r[2] - base.center.z) / base.length);
+                    if (!(x == prior.position[i])) continue;
+                    for (int c = 0; c < 3; ++c) given[j][c] = r[6 + c] > 0.f ? prior.exitance[i][c] / r[6 + c] : 0.f;   // ρ = 0 re-emits nothing
+                    ++matched;
+                    break;
+                }
+            ASSERT_EQ(matched, prior.position.size()) << nodes;
+            ASSERT_EQ(matched, std::string(nodes) == "points" ? n : groups.centers.size());
+            const PointTracer tracer = [&](const float *, size_t count, Vec3f *direct, Vec3f *indirect) {
+                ASSERT_EQ(count, n);
+                for (size_t j = 0; j < n; ++j) direct[j] = given[j], indirect[j] = Vec3f(0.f);
+            };
+            const SceneFrame traced = solve_scene_frame(rows, n, groups, ph, nullptr, nullptr, tracer);
+            ASSERT_EQ(traced.regathered.size(), n);
+            std::vector<float> q(n * 9);
+            for (size_t j = 0; j < n; ++j) {
+                for (int a = 0; a < 3; ++a) q[j * 9 + size_t(a)] = (rows[j * 12 + size_t(a)] - base.center[a]) / base.length;
+                for (int a = 3; a < 9; ++a) q[j * 9 + size_t(a)] = rows[j * 12 + size_t(a)];
+            }
+            std::vector<Vec3f> expected(n);
+            prior_scale_normalized(base.transport.get(), base.output, q.data(), 9, n, expected.data());
+            double worst = 0, level = 0;
+            for (size_t j = 0; j < n; ++j)
+                for (int c = 0; c < 3; ++c) {
+                    worst = std::max(worst, double(std::abs(traced.regathered[j][c] - expected[j][c])));
+                    level += double(expected[j][c]) / double(3 * n);
+                }
+            EXPECT_LT(worst, 1e-4 * level) << "nodes " << nodes << ", theta " << theta;
+        }
 }

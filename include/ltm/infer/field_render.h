@@ -64,6 +64,7 @@ struct NeuralTimings {
     double gbuffer = 0, sample = 0, geometry = 0, encode = 0, knn = 0, decode = 0, direct = 0, total = 0;
     double glossy = 0;   ///< conductor pixels (direct light + L⁺ by the GlossyShading used)
     double prior_solve = 0;   ///< of encode: the transport prior's solve (the rest is the encoder, when it runs)
+    double trace = 0;         ///< of encode: the traced inputs (ModelConfig::traced_inputs), 0 without
     /// The model's own cost: everything but the G-buffer and direct light (which any renderer pays).
     double model() const { return sample + geometry + encode + knn + decode; }
     OrderedJson to_json() const;
@@ -115,6 +116,7 @@ struct GiSource {
     float spacing = 0;                  ///< their mean spacing √(A/M), metres
     int64_t n_scene_points = 0;
     double sample_seconds = 0, geometry_seconds = 0, encode_seconds = 0, prior_solve_seconds = 0;
+    double trace_seconds = 0;   ///< of encode: the traced inputs
 };
 
 /// Query rows [n, 9] of the G-buffer hits listed in `hits` (all hits if null), in that order: p, n

@@ -45,6 +45,8 @@ struct SceneNormalization {
     /// [M, 6] ModelConfig::traced_inputs: the traced E⁺ (columns 0–2) and the regathered prior (3–5)
     /// at every scene point, raw units (SceneFrame::traced, regathered); undefined without a tracer.
     torch::Tensor point_traced;
+    /// Seconds the traced inputs took (tracing and regather; part of the encode, not of the prior).
+    double trace_seconds = 0;
     /// Seconds the transport prior's solve took (part of the encode): the model's own prior, the
     /// network silenced, costs sampling, this and its gather (`ltm eval`'s model-prior row).
     double solve_seconds = 0;

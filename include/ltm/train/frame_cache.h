@@ -46,7 +46,8 @@ public:
     std::string path_for(const ModelConfig &cfg, const std::string &record_path, int set) const;
     /// The entry, or nothing when the file is absent, malformed or not the prior at the record's
     /// n_queries queries (then with one warning).
-    std::optional<FrameCacheEntry> load(const std::string &path, int64_t n_queries) const;
+    /// traced: the model has traced inputs, so an entry without them is a miss.
+    std::optional<FrameCacheEntry> load(const std::string &path, int64_t n_queries, bool traced = false) const;
     /// Writes the entry atomically.
     void store(const std::string &path, const FrameCacheEntry &entry) const;
 
