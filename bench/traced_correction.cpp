@@ -9,7 +9,8 @@
 //                sums, so the noise averages over k points before it divides. k = "all": one gain
 //                per view (the level alone).
 //   regather     the prior's nodes re-emit ρ_j ⊙ (traced E_dir + E⁺ at node j) and are gathered once
-//                more at the hits: the last bounce by the prior's gather, the rest traced.
+//                more at the hits: the last bounce by the prior's gather, the rest traced (E⁺ to the
+//                references' depth 5, so 1 … 6 events; the model's traced inputs stop at D − 1).
 // Prior: the shipped one (bench/shipped_prior.h, the auto point count) or, with MODEL_CONFIG=path,
 // the prior of that model config exactly as `ltm eval`'s model-prior row solves it (its points, its
 // visibility by rays). Writes the eval's MSE (compare_images) per variant, its ratio to the prior,
