@@ -16,7 +16,7 @@
 // visibility by rays). Writes the eval's MSE (compare_images) per variant, its ratio to the prior,
 // views better and the tracing time; TSV=path the per-pixel table that
 // scripts/analysis/traced_probe_features.py fits. Diagnostics: PROBES=1 (probes from an independent
-// point draw), KEEP_DARK, MEDIAN, NO_EMITTERS, PROBE_DEBUG, DUMP=dir (PNGs).
+// point draw), KEEP_DARK, MEDIAN, NO_EMITTERS, PROBE_DEBUG, DUMP=dir (PNGs), REGATHER_DEPTH.
 //   build/bench/traced_correction SCENES REF_CACHE [size=96] [ref_spp=1024] [spp list=4,16,64] [k list=16,64,256,0]
 #include <algorithm>
 #include <chrono>
@@ -175,6 +175,11 @@ int main(int argc, char **argv) {
         PathTracerConfig tcfg = cfg;
         tcfg.seed = cfg.seed + 7919;   // independent of the reference's paths
         const PathTracer tracer(accel, tcfg);
+        // REGATHER_DEPTH=D: the regather's E⁺ to D scattering events (default the references' 5;
+        // the model's traced inputs use prior_bounces − 1 = 4).
+        PathTracerConfig rcfg = tcfg;
+        if (const char *d = std::getenv("REGATHER_DEPTH")) rcfg.max_depth = rcfg.rr_depth = std::max(1, std::atoi(d));
+        const PathTracer regather_tracer(accel, rcfg);
         std::printf("%-28s prior %.5f |", bs.name.c_str(), mse_prior);
         std::vector<Vec3f> rg_first;
         std::vector<std::vector<Vec3f>> corrected_first;
@@ -192,7 +197,7 @@ int main(int argc, char **argv) {
                 parallel_for(0, int64_t(m), 64, [&](int64_t b, int64_t en) {
                     for (int64_t j = b; j < en; ++j) {
                         const size_t i = size_t(j);
-                        const IrradianceEstimate est = tracer.irradiance(sp.points.vec3(i, 0), sp.points.vec3(i, 3), uint64_t(j) + 1000000007ull, spp);
+                        const IrradianceEstimate est = regather_tracer.irradiance(sp.points.vec3(i, 0), sp.points.vec3(i, 3), uint64_t(j) + 1000000007ull, spp);
                         ex[i] = sp.points.vec3(i, 6) * (est.direct + est.indirect);
                     }
                 });
