@@ -35,8 +35,9 @@ def load(path):
         for line in f:
             if line.startswith("# view"):
                 t = line.split()
-                views.append({"name": t[2], "pixels": int(t[4]), "scale": float(t[6]),
-                              "norm": lum(float(t[8]), float(t[9]), float(t[10])), "rows": []})
+                # tables without the prior inputs' normaliser (bench/traced_correction) read it as 1
+                norm = lum(float(t[8]), float(t[9]), float(t[10])) if len(t) > 10 else 1.0
+                views.append({"name": t[2], "pixels": int(t[4]), "scale": float(t[6]), "norm": norm, "rows": []})
             elif line.startswith("#"):
                 continue
             else:

@@ -24,18 +24,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import prior_error_features as pef  # noqa: E402
 
 lum = pef.lum
-
-
-def load(path):
-    views = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("# view"):
-                t = line.split()
-                views.append({"name": t[2], "pixels": int(t[4]), "scale": float(t[6]), "norm": 1.0, "rows": []})
-            elif not line.startswith("#"):
-                views[-1]["rows"].append([float(x) for x in line.split()])
-    return views
+load = pef.load
 
 
 def log_gain(x):
@@ -71,7 +60,6 @@ def table(train, tests):
 
 def main():
     pef.FEATURES = FEATURES
-    pef.load = load
     if sys.argv[1] == "--halves":
         views = load(sys.argv[2])
         h = len(views) // 2

@@ -63,16 +63,23 @@ namespace {
 // voxels of every scene point (transport/point_visibility.h), edge prior_visibility × the points' own
 // spacing (measured from them, so the grid does not move with ℓ); with prior_discs, segments are
 // tested against every scene point as a disc of that many spacings instead.
+// The scene points [M, 12] in the frame's normalised coordinates ((p − centre)/ℓ; the rest as is):
+// the prior's nodes and the rows it is gathered at.
+std::vector<float> normalized_points(const float *sp, size_t n_points, const SceneFrame &f) {
+    std::vector<float> out(n_points * 12);
+    for (size_t i = 0; i < n_points; ++i) {
+        for (size_t a = 0; a < 3; ++a) out[i * 12 + a] = (sp[i * 12 + a] - f.center[int(a)]) / f.length;
+        for (size_t c = 3; c < 12; ++c) out[i * 12 + c] = sp[i * 12 + c];
+    }
+    return out;
+}
+
 std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_points, const PointGroups &groups, const SceneFrame &f,
                                                       const PhysicsConfig &physics, std::shared_ptr<const SegmentOcclusion> occlusion,
                                                       bool &every_point) {
     PointSet all;
     all.columns = scene_point_columns();
-    all.values.resize(n_points * 12);
-    for (size_t i = 0; i < n_points; ++i) {
-        for (size_t a = 0; a < 3; ++a) all.values[i * 12 + a] = (sp[i * 12 + a] - f.center[int(a)]) / f.length;
-        for (size_t c = 3; c < 12; ++c) all.values[i * 12 + c] = sp[i * 12 + c];
-    }
+    all.values = normalized_points(sp, n_points, f);
     PointSet anchors;
     const PointSet *nodes = &all;
     if (physics.prior_nodes != "points") {
@@ -135,14 +142,10 @@ void trace_and_regather(const float *sp, size_t n_points, const PointGroups &gro
         regather->exitance[i] = Vec3f(row[6], row[7], row[8]) * (direct[j] + indirect[j]);
     }
     if (regather->tree) regather->tree_sums = std::make_shared<const PriorTree::Sums>(regather->tree->sums(regather->exitance));
-    std::vector<float> rows(n_points * 6);
-    for (size_t i = 0; i < n_points; ++i) {
-        for (size_t a = 0; a < 3; ++a) rows[i * 6 + a] = (sp[i * 12 + a] - f.center[int(a)]) / f.length;
-        for (size_t a = 3; a < 6; ++a) rows[i * 6 + a] = sp[i * 12 + a];
-    }
     // Floored as the prior's own inputs are (prior_scale_normalized): 10⁻³ of the flat level.
+    const std::vector<float> rows = normalized_points(sp, n_points, f);
     f.regathered.resize(n_points);
-    prior_scale_normalized(regather.get(), f.output, rows.data(), 6, n_points, f.regathered.data());
+    prior_scale_normalized(regather.get(), f.output, rows.data(), 12, n_points, f.regathered.data());
     f.traced = std::move(indirect);
 }
 }  // namespace

@@ -15,25 +15,13 @@
 using namespace ltm;
 
 namespace {
+using test::random_model;
 // The tiny model with the shipped prior's physics (cpu-tp-open) and prior inputs.
 struct Fixture : test::TinySceneFixture {
     Fixture() : TinySceneFixture(300) {
-        const ModelConfig shipped = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json"));
-        cfg.physics = shipped.physics;
-        cfg.prior_inputs = true;
+        cfg = test::with_prior_inputs(cfg);
     }
 };
-
-// Every weight random (N(0, 0.5²) for matrices, so the extra input columns matter), eval mode.
-LtmModel random_model(const ModelConfig &cfg, uint64_t seed) {
-    torch::manual_seed(seed);
-    LtmModel m(cfg);
-    torch::NoGradGuard g;
-    for (auto &p : m->named_parameters())
-        if (p.value().dim() == 2) p.value().normal_(0.0, 0.5);
-    m->eval();
-    return m;
-}
 
 using test::scaled;
 

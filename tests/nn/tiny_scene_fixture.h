@@ -25,6 +25,25 @@ struct TinySceneFixture {
     torch::Tensor qp;   ///< [n_queries, 9]; initialised after scene (declaration order)
 };
 
+/// The tiny config with the shipped prior's physics (cpu-pi's) and prior inputs: what the prior- and
+/// traced-inputs tests build on.
+inline ModelConfig with_prior_inputs(ModelConfig cfg) {
+    cfg.physics = ModelConfig::from_file(source_path("configs/model/cpu-pi.json")).physics;
+    cfg.prior_inputs = true;
+    return cfg;
+}
+
+/// A model (eval mode, seeded) with every weight matrix N(0, 0.5²), so extra input columns matter.
+inline LtmModel random_model(const ModelConfig &cfg, uint64_t seed) {
+    torch::manual_seed(seed);
+    LtmModel m(cfg);
+    torch::NoGradGuard g;
+    for (auto &p : m->named_parameters())
+        if (p.value().dim() == 2) p.value().normal_(0.0, 0.5);
+    m->eval();
+    return m;
+}
+
 /// A model (eval mode, seeded) whose submodule `part` ("decoder", "directional") has N(0, 0.5²)
 /// weights: an output that is not a constant, which the default initialisation can be.
 inline LtmModel model_with_random_part(const ModelConfig &cfg, uint64_t seed, const std::string &part) {

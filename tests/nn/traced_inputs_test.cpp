@@ -23,25 +23,14 @@
 using namespace ltm;
 
 namespace {
+using test::random_model;
 // The tiny model with the shipped prior's physics (as prior_inputs_test.cpp), prior and traced inputs.
 struct Fixture : test::TinySceneFixture {
     Fixture() : TinySceneFixture(200) {
-        const ModelConfig shipped = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json"));
-        cfg.physics = shipped.physics;
-        cfg.prior_inputs = true;
+        cfg = test::with_prior_inputs(cfg);
         cfg.traced_inputs = 4;
     }
 };
-
-LtmModel random_model(const ModelConfig &cfg, uint64_t seed) {
-    torch::manual_seed(seed);
-    LtmModel m(cfg);
-    torch::NoGradGuard g;
-    for (auto &p : m->named_parameters())
-        if (p.value().dim() == 2) p.value().normal_(0.0, 0.5);
-    m->eval();
-    return m;
-}
 
 // The traced inputs the encoder reads (log1p of traced E⁺ and regathered prior over S·Σρ̄^k), [M, 6].
 torch::Tensor traced_features(const SceneLatents &lat) {
