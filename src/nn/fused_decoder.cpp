@@ -200,6 +200,9 @@ void decode_tile(const Weights &w, Scratch &s, const float *query, const float *
     linear(x, d, rows, w.out1, t, d);
     gelu(t, rows * d);
     linear(t, d, rows, w.out2, z, 3);
+    if (!w.skip.empty())   // u_c += skip_c · x_c, x the query's last 3 columns (QueryDecoderImpl::output)
+        for (int r = 0; r < rows; ++r)
+            for (int c = 0; c < 3; ++c) z[r * 3 + c] += w.skip[size_t(c)] * query[r * qw + qw - 3 + c];
     for (int i = 0; i < rows * 3; ++i) z[i] = z[i] > 20.f ? z[i] : std::log1p(std::exp(z[i]));   // torch threshold 20
 }
 
@@ -240,6 +243,7 @@ FusedDecoder::FusedDecoder(const QueryDecoderImpl &dec) {
     m_w.embed1 = dense(embed1_w, p("embed.0.bias")), m_w.embed_ln = ln("embed.1"), m_w.embed2 = lin("embed.3");
     m_w.pos1 = lin("pos_mlp.0"), m_w.pos2 = lin("pos_mlp.2");
     m_w.out_ln = ln("out.0"), m_w.out1 = lin("out.1"), m_w.out2 = lin("out.3");
+    if (dec.cfg.skip_inputs > 0) m_w.skip = to_vector(p("skip"));
     const auto w2 = p("pos_mlp.2.weight"), b2 = p("pos_mlp.2.bias");
     for (int l = 0; l < dec.cfg.n_layers; ++l) {
         const std::string a = "attention." + std::to_string(l), n = std::to_string(l);

@@ -18,14 +18,22 @@
 namespace ltm {
 
 namespace {
+torch::Tensor gathered_normalized(const torch::Tensor &q, const TransportPrior &transport, const SceneNormalization &norm);
+
 // output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]
 torch::Tensor output_scale_normalized(const torch::Tensor &q, const SceneNormalization &norm) {
     if (!norm.transport) return norm.output;
+    return gathered_normalized(q, *norm.transport, norm);
+}
+
+// A transport (the prior or its regather) gathered at queries in the normalised frame and floored
+// at 10⁻³ · norm.output (prior_scale_normalized).   q [N, 9] -> [N, 3]
+torch::Tensor gathered_normalized(const torch::Tensor &q, const TransportPrior &transport, const SceneNormalization &norm) {
     torch::NoGradGuard no_grad;
     const auto qc = q.detach().to(torch::kCPU, torch::kFloat32).contiguous();
     auto out = torch::empty({qc.size(0), 3}, torch::kFloat32);
     const auto o = norm.output.detach().to(torch::kCPU, torch::kFloat32).contiguous();
-    prior_scale_normalized(norm.transport.get(), Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>()), qc.data_ptr<float>(), 9,
+    prior_scale_normalized(&transport, Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>()), qc.data_ptr<float>(), 9,
                            size_t(qc.size(0)), reinterpret_cast<Vec3f *>(out.data_ptr<float>()));
     return out.to(norm.output.device());
 }
@@ -61,6 +69,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     n.emission = vec3_tensor(f.emission, opts);
     n.output = vec3_tensor(f.output, opts);
     n.transport = f.transport;
+    n.regather = f.regather;
     n.solve_seconds = f.solve_seconds;
     n.trace_seconds = f.trace_seconds;
     if (!f.traced.empty()) {
@@ -91,6 +100,7 @@ LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
     cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
     cfg.embedding.extra_inputs = cfg.decoder.extra_inputs = cfg.prior_inputs ? 3 : 0;
     if (cfg.traced_inputs > 0) cfg.embedding.extra_inputs += 6;   // the traced E⁺ and the regathered prior at each point
+    if (cfg.traced_queries) cfg.decoder.extra_inputs += 3, cfg.decoder.skip_inputs = 3;   // ln(R / Ê) at each query
     embedding = register_module("embedding", NNEmbedding(cfg.embedding));
     encoder = register_module("encoder", PTv3(cfg.encoder));
     decoder = register_module("decoder", QueryDecoder(cfg.decoder, encoder->out_channels()));
@@ -187,24 +197,32 @@ torch::Tensor LtmModelImpl::features(const SceneLatents &latents) {
 }
 
 torch::Tensor LtmModelImpl::query_inputs(const torch::Tensor &query_points, const SceneNormalization &norm,
-                                         const torch::Tensor &scale) const {
+                                         const torch::Tensor &scale, const torch::Tensor &regathered) const {
     const auto q = normalize_query_points(query_points, norm);
     if (!cfg.prior_inputs) return q;
     const auto s = scale.defined() ? scale : output_scale_normalized(q, norm);
     TORCH_CHECK(s.dim() == 2 && s.size(0) == q.size(0) && s.size(1) == 3, "query_inputs: scale must be [N, 3] for N = ",
                 q.size(0), ", got ", s.sizes());
-    return torch::cat({q, prior_features(s, norm)}, 1);   // [N, 12]
+    if (!cfg.traced_queries) return torch::cat({q, prior_features(s, norm)}, 1);   // [N, 12]
+    if (!regathered.defined() && !norm.regather)
+        LTM_THROW("model '", cfg.name, "' has traced queries: decoding needs the regathered prior (encode the scene with its path tracer)");
+    const auto r = regathered.defined() ? regathered : gathered_normalized(q, *norm.regather, norm);
+    TORCH_CHECK(r.dim() == 2 && r.size(0) == q.size(0) && r.size(1) == 3, "query_inputs: regathered must be [N, 3] for N = ",
+                q.size(0), ", got ", r.sizes());
+    return torch::cat({q, prior_features(s, norm), traced_query_features(r, s)}, 1);   // [N, 15]
 }
 
-torch::Tensor LtmModelImpl::decode_network(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale) {
-    const auto q = query_inputs(query_points, latents.norm, scale);
+torch::Tensor LtmModelImpl::decode_network(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale,
+                                           const torch::Tensor &regathered) {
+    const auto q = query_inputs(query_points, latents.norm, scale, regathered);
     const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
     const auto idx = knn(q.slice(1, 0, 3).contiguous(), latents.anchors.contiguous(), kappa);
     return decoder->forward(q, features(latents), latents.anchors, idx);
 }
 
-torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale) {
-    const auto z = decode_network(query_points, latents, scale);
+torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale,
+                                   const torch::Tensor &regathered) {
+    const auto z = decode_network(query_points, latents, scale, regathered);
     if (cfg.decoder.level_points <= 0) return z;
     return torch::log1p(level_factor(latents) * torch::expm1(z));
 }
@@ -311,6 +329,19 @@ int64_t LtmModelImpl::n_parameters() const {
 
 torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormalization &norm) {
     return norm.transport ? output_scale_normalized(normalize_query_points(query_points, norm), norm) : norm.output;
+}
+
+torch::Tensor regathered_scale(const torch::Tensor &query_points, const SceneNormalization &norm) {
+    if (!norm.regather) LTM_THROW("the scene's frame has no regathered prior (it was made without the scene's path tracer)");
+    return gathered_normalized(normalize_query_points(query_points.to(norm.output.device()), norm), *norm.regather, norm);
+}
+
+torch::Tensor traced_query_features(const torch::Tensor &regathered, const torch::Tensor &scale) {
+    TORCH_CHECK(regathered.dim() == 2 && regathered.size(1) == 3 && regathered.sizes() == scale.sizes(),
+                "traced_query_features: regathered and scale must both be [N, 3], got ", regathered.sizes(), " and ", scale.sizes());
+    // Both are floored at 10⁻³ of the flat level, so the log is finite wherever the channel has light.
+    const auto lit = (regathered > 0) & (scale > 0);
+    return torch::where(lit, torch::log(regathered.clamp_min(1e-30) / scale.clamp_min(1e-30)), torch::zeros_like(scale));
 }
 
 torch::Tensor irradiance_from_z(const torch::Tensor &z, const torch::Tensor &scale) { return scale * torch::expm1(z); }

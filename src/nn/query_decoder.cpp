@@ -39,6 +39,7 @@ torch::Tensor VectorCrossAttentionImpl::forward(const torch::Tensor &h, const to
 std::vector<torch::Tensor> QueryDecoderImpl::output_parameters() {
     auto *last = out[out->size() - 1]->as<torch::nn::LinearImpl>();
     TORCH_CHECK(last != nullptr, "the decoder's output layer is not a Linear");
+    if (skip.defined()) return {last->weight, last->bias, skip};
     return {last->weight, last->bias};
 }
 
@@ -51,7 +52,13 @@ bool QueryDecoderImpl::at_prior() const {
     const auto *last = out->ptr(out->size() - 1)->as<torch::nn::LinearImpl>();
     if (last == nullptr) return false;
     torch::NoGradGuard no_grad;
-    return !last->weight.any().item<bool>() && !last->bias.any().item<bool>();
+    return !last->weight.any().item<bool>() && !last->bias.any().item<bool>() && !(skip.defined() && skip.any().item<bool>());
+}
+
+torch::Tensor QueryDecoderImpl::output(const torch::Tensor &h, const torch::Tensor &query) {
+    auto u = out->forward(h);   // [N, 3]
+    if (skip.defined()) u = u + skip * query.slice(1, query.size(1) - cfg.skip_inputs, query.size(1));
+    return torch::softplus(u);   // z = log1p(E⁺ / scale) >= 0  (eq. 14)
 }
 
 QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) : cfg(c) {
@@ -59,6 +66,11 @@ QueryDecoderImpl::QueryDecoderImpl(const DecoderConfig &c, int64_t latent_dim) :
     out = register_module("out", torch::nn::Sequential(torch::nn::LayerNorm(torch::nn::LayerNormOptions({cfg.dim})),
                                                        torch::nn::Linear(cfg.dim, cfg.dim), torch::nn::GELU(),
                                                        torch::nn::Linear(cfg.dim, 3)));
+    if (cfg.skip_inputs > 0) {
+        TORCH_CHECK(cfg.skip_inputs == 3 && cfg.extra_inputs >= 3, "QueryDecoder: skip_inputs must be 3 of the extra inputs, got ",
+                    cfg.skip_inputs, " of ", cfg.extra_inputs);
+        skip = register_parameter("skip", torch::zeros({3}));
+    }
     if (cfg.type == "knn-mean") {
         latent_proj = register_module("latent_proj", torch::nn::Linear(latent_dim, cfg.dim));
         ffn = register_module("ffn", torch::nn::ModuleList(make_mlp(2 * cfg.dim, cfg.dim, cfg.dim)));
@@ -112,11 +124,11 @@ torch::Tensor QueryDecoderImpl::forward(const torch::Tensor &query, const torch:
     if (cfg.type == "knn-mean") {
         const auto lat = latent_proj->forward(latents).index_select(0, idx.reshape(-1)).view({n, kappa, -1}).mean(1);
         h = h + ffn[0]->as<torch::nn::SequentialImpl>()->forward(torch::cat({h, lat}, 1));
-        return torch::softplus(out->forward(h));
+        return output(h, query);
     }
     // Δp = p_j − p_k, query minus neighbour (paper eq. 10); γ(Δp) [N, κ, D] shared by the blocks.
     const auto pos = pos_mlp->forward(anchor_offsets(query, anchors, idx));
-    return torch::softplus(out->forward(blocks.forward(h, latents, idx, pos)));   // z = log1p(E⁺) >= 0  (eq. 14)
+    return output(blocks.forward(h, latents, idx, pos), query);
 }
 
 }  // namespace ltm

@@ -147,6 +147,7 @@ void trace_and_regather(const float *sp, size_t n_points, const PointGroups &gro
     f.regathered.resize(n_points);
     prior_scale_normalized(regather.get(), f.output, rows.data(), 12, n_points, f.regathered.data());
     f.traced = std::move(indirect);
+    f.regather = std::move(regather);
 }
 }  // namespace
 

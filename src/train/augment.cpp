@@ -24,7 +24,7 @@ torch::Tensor apply_symmetry(const torch::Tensor &points, int s) {
 
 SceneNormalization apply_symmetry(const SceneNormalization &frame, int s) {
     SceneNormalization f = frame;
-    f.transport.reset();
+    f.transport.reset(), f.regather.reset();
     if (s != 0) f.center = f.center.view({1, 3}).mm(symmetry_matrix(s).t().to(f.center.device())).view({3});
     return f;
 }

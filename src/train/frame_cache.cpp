@@ -68,13 +68,14 @@ std::string FrameCache::path_for(const ModelConfig &cfg, const std::string &reco
                 {"prior_inputs", cfg.prior_inputs},
                 {"point_prior", cfg.prior_inputs || cfg.decoder.level_points > 0},   // stored with the frame
                 {"traced_inputs", cfg.traced_inputs},
+                {"traced_queries", cfg.traced_queries},
                 {"embedding", model.value("embedding", Json())},
                 {"physics", model.value("physics", Json())}};
     return (fs::path(m_dir) / (fs::path(record_path).stem().string() + ".set" + std::to_string(set) + "." +
                                fingerprint_of(key.dump()) + ".safetensors")).string();
 }
 
-std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t n_queries, bool traced) const {
+std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t n_queries, bool traced, bool traced_queries) const {
     if (!fs::exists(path)) return std::nullopt;
     try {
         const SafetensorsFile f = read_safetensors(path);
@@ -92,6 +93,7 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t
         e.center = get("center", true), e.length = get("length", true), e.emission = get("emission", true);
         e.output = get("output", true), e.point_prior = get("point_prior", false), e.query_scale = get("query_scale", true);
         e.point_traced = get("point_traced", false);
+        e.query_regathered = get("query_regathered", false);
         const int64_t m = e.scene_points.dim() == 2 ? e.scene_points.size(0) : -1;
         const bool ok = m > 0 && e.scene_points.size(1) == 12 && e.scene_points.scalar_type() == torch::kFloat32 &&
                         e.centers.dim() == 1 && e.centers.scalar_type() == torch::kInt64 && e.groups.dim() == 2 &&
@@ -103,6 +105,8 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t
                         e.query_scale.dim() >= 1 && e.query_scale.size(-1) == 3;
         if (!ok) LTM_THROW(path, ": tensor types or shapes do not fit together");
         if (traced && !e.point_traced.defined()) LTM_THROW(path, ": no traced inputs, and the model has them");
+        if (traced_queries && !(e.query_regathered.dim() == 2 && e.query_regathered.size(0) == n_queries && e.query_regathered.size(1) == 3))
+            LTM_THROW(path, ": no regathered prior at the record's ", n_queries, " queries, and the model reads it");
         if (e.query_scale.dim() == 2 && e.query_scale.size(0) != n_queries)
             LTM_THROW(path, " holds the prior at ", e.query_scale.size(0), " queries, the record has ", n_queries);
         return e;
@@ -120,7 +124,7 @@ void FrameCache::store(const std::string &path, const FrameCacheEntry &e) const 
     put("scene_points", e.scene_points), put("centers", e.centers), put("groups", e.groups);
     put("emission_scale", e.emission_scale), put("center", e.center), put("length", e.length);
     put("emission", e.emission), put("output", e.output), put("point_prior", e.point_prior), put("query_scale", e.query_scale);
-    put("point_traced", e.point_traced);
+    put("point_traced", e.point_traced), put("query_regathered", e.query_regathered);
     f.metadata["format"] = "ltm-frame-cache";
     try {
         write_safetensors(path, f);

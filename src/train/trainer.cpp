@@ -67,6 +67,7 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .omit_default()
             .field("target_cap", &C::target_cap, "> 0: training targets clamped at target_cap × the scene's level (note 2); validation never", at_least(0))
             .field("output_decay", &C::output_decay, "> 0: the decoder's output layer's AdamW weight decay (a pull toward the prior), the rest keeps weight_decay", at_least(0))
+            .field("skip_lr_scale", &C::skip_lr_scale, "the decoder's skip weights (traced_queries) learn at lr × this, without weight decay; 1 = with the rest", at_least(0))
             .omit_default()
             .field("point_sets", &C::point_sets, "scene point sets per training house, one drawn per step (note 6)", between(1, 64))
             .omit_default()
@@ -151,18 +152,31 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
         for (auto &p : m_model->decoder->parameters()) p.requires_grad_(false);
     // output_decay: the decoder's output layer in a group of its own, with its own decay (toward 0,
     // i.e. toward the prior); one group otherwise, as before.
+    // skip_lr_scale: the decoder's skip in a group of its own, at lr × the scale and no decay.
+    const torch::Tensor skip = cfg.skip_lr_scale != 1.f && m_model->decoder->skip.defined() && m_model->decoder->skip.requires_grad()
+                                   ? m_model->decoder->skip
+                                   : torch::Tensor();
     std::vector<torch::Tensor> out_layer;
     if (cfg.output_decay > 0.f)
         for (auto &p : m_model->decoder->output_parameters())
-            if (p.requires_grad()) out_layer.push_back(p);
+            if (p.requires_grad() && !(skip.defined() && p.is_same(skip))) out_layer.push_back(p);
     std::vector<torch::Tensor> trained;
     for (auto &p : m_model->parameters())
-        if (p.requires_grad() && std::none_of(out_layer.begin(), out_layer.end(), [&](const torch::Tensor &o) { return o.is_same(p); }))
+        if (p.requires_grad() && !(skip.defined() && p.is_same(skip)) &&
+            std::none_of(out_layer.begin(), out_layer.end(), [&](const torch::Tensor &o) { return o.is_same(p); }))
             trained.push_back(p);
     const auto adamw = [&](double decay) { return torch::optim::AdamWOptions(cfg.lr).weight_decay(decay); };
     std::vector<torch::optim::OptimizerParamGroup> groups;
     groups.emplace_back(trained, std::make_unique<torch::optim::AdamWOptions>(adamw(cfg.weight_decay)));
-    if (!out_layer.empty()) groups.emplace_back(out_layer, std::make_unique<torch::optim::AdamWOptions>(adamw(cfg.output_decay)));
+    m_group_lr_scale = {1.0};
+    if (!out_layer.empty()) {
+        groups.emplace_back(out_layer, std::make_unique<torch::optim::AdamWOptions>(adamw(cfg.output_decay)));
+        m_group_lr_scale.push_back(1.0);
+    }
+    if (skip.defined()) {
+        groups.emplace_back(std::vector<torch::Tensor>{skip}, std::make_unique<torch::optim::AdamWOptions>(adamw(0.0)));
+        m_group_lr_scale.push_back(double(cfg.skip_lr_scale));
+    }
     m_opt = std::make_unique<torch::optim::AdamW>(std::move(groups), adamw(cfg.weight_decay));
     create_directories(out_dir);
 }
@@ -187,6 +201,19 @@ void Trainer::init_weights(const std::string &path) {
         if (t.dim() == 2 && t.size(1) == want - 6) {
             t = torch::cat({t, torch::zeros({t.size(0), 6}, t.options())}, 1);
             log_info(path, ": no traced inputs; ", name, " widened by 6 zero columns (the model starts as these weights)");
+        }
+    }
+    if (m_model_cfg.traced_queries && !w->cfg.traced_queries && w->cfg.prior_inputs) {
+        // The documented conversion (docs/config.md, traced_queries): the decoder's first layer reads
+        // ln(R / Ê) in 3 columns after the prior's, and the skip carries it to the output; both start
+        // at zero, so the model starts as the weights it came from.
+        const std::string name = "decoder.embed.0.weight";
+        torch::Tensor &t = tensors.at(name);
+        const int64_t want = 9 + m_model->cfg.decoder.extra_inputs;
+        if (t.dim() == 2 && t.size(1) == want - 3) {
+            t = torch::cat({t, torch::zeros({t.size(0), 3}, t.options())}, 1);
+            tensors["decoder.skip"] = torch::zeros({3}, t.options());
+            log_info(path, ": no traced queries; ", name, " widened by 3 zero columns, decoder.skip zero (the model starts as these weights)");
         }
     }
     if (m_cfg.head == "directional" && !w->directional) {
@@ -235,7 +262,8 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
         const std::string cache_path = cacheable ? m_frame_cache.path_for(m_model_cfg, path, set) : std::string();
         std::optional<FrameCacheEntry> hit;
         auto look_up = [&] {   // once the draw's queries are known: an entry must hold the prior at each
-            if (cacheable) hit = m_frame_cache.load(cache_path, c->query_points.size(0), m_model_cfg.traced_inputs > 0);
+            if (cacheable)
+                hit = m_frame_cache.load(cache_path, c->query_points.size(0), m_model_cfg.traced_inputs > 0, m_model_cfg.traced_queries);
         };
         PointSet points;
         // Points sampled afresh from the regenerated house as the record's were (its preset's rules),
@@ -287,6 +315,7 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             if (hit->point_prior.defined()) c->frame.point_prior = hit->point_prior.to(m_device);
             if (hit->point_traced.defined()) c->frame.point_traced = hit->point_traced.to(m_device);
             c->query_scale = hit->query_scale.to(m_device);
+            if (hit->query_regathered.defined()) c->query_regathered = hit->query_regathered.to(m_device);
             slot = std::move(c);
             return *slot;
         }
@@ -305,14 +334,15 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale, rays ? rays->occlusion : nullptr,
                                             rays ? traced_inputs_tracer(m_model_cfg, *rays->accel) : PointTracer{});
             c->query_scale = output_scale(c->query_points, c->frame);
-            c->frame.transport.reset();   // every value needed is kept; the solve's memory is not
+            if (m_model_cfg.traced_queries) c->query_regathered = regathered_scale(c->query_points, c->frame);
+            c->frame.transport.reset(), c->frame.regather.reset();   // every value needed is kept; the solve's memory is not
             if (cacheable) {
                 FrameCacheEntry e;
                 e.scene_points = sp, e.centers = c->geometry.centers, e.groups = c->geometry.groups;
                 e.emission_scale = c->emission_scale;
                 e.center = c->frame.center, e.length = c->frame.length, e.emission = c->frame.emission, e.output = c->frame.output;
                 e.point_prior = c->frame.point_prior, e.query_scale = c->query_scale;
-                e.point_traced = c->frame.point_traced;
+                e.point_traced = c->frame.point_traced, e.query_regathered = c->query_regathered;
                 m_frame_cache.store(cache_path, e);
             }
         }
@@ -324,7 +354,8 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
 TrainStepLog Trainer::train_step() {
     const int64_t t = m_step;
     const double lr = learning_rate(m_cfg, t);
-    for (auto &group : m_opt->param_groups()) static_cast<torch::optim::AdamWOptions &>(group.options()).lr(lr);
+    for (size_t g = 0; g < m_opt->param_groups().size(); ++g)
+        static_cast<torch::optim::AdamWOptions &>(m_opt->param_groups()[g].options()).lr(lr * m_group_lr_scale.at(g));
     m_model->train();
     if (m_cfg.freeze == "encoder") m_model->embedding->eval(), m_model->encoder->eval();
     m_opt->zero_grad();
@@ -370,7 +401,7 @@ TrainStepLog Trainer::train_step() {
         const auto queries = apply_symmetry(sc.query_points.index_select(0, idx), sym);
         const SceneLatents lat = latents(sc, scene_points, sym);
         const auto scale = query_scale(sc, idx);
-        const auto z = m_model->decode(queries, lat, scale);
+        const auto z = m_model->decode(queries, lat, scale, query_regathered(sc, idx));
         // The step's loss is the mean of the scenes' losses; gradients accumulate scene by scene.
         const auto target = capped_targets(sc.target.index_select(0, idx), scale, m_cfg.target_cap);
         auto l = loss(z, target, scale);
@@ -534,6 +565,10 @@ torch::Tensor Trainer::query_scale(const CachedScene &sc, const torch::Tensor &i
     return sc.query_scale.dim() == 2 ? sc.query_scale.index_select(0, idx) : sc.query_scale;
 }
 
+torch::Tensor Trainer::query_regathered(const CachedScene &sc, const torch::Tensor &idx) {
+    return sc.query_regathered.defined() ? sc.query_regathered.index_select(0, idx) : torch::Tensor();
+}
+
 SceneLatents Trainer::latents(CachedScene &sc, const torch::Tensor &scene_points, int sym) {
     // The irradiance head draws in the cached frame; the directional head solves per draw.
     const SceneNormalization f = sc.frame.center.defined() ? apply_symmetry(sc.frame, sym) : SceneNormalization{};
@@ -672,7 +707,7 @@ double Trainer::validate() {
         const SceneLatents lat = latents(sc, sc.scene_points, 0);
         const auto queries = sc.query_points.index_select(0, rows);
         const auto scale = query_scale(sc, rows);
-        const auto z = m_model->decode(queries, lat, scale);
+        const auto z = m_model->decode(queries, lat, scale, query_regathered(sc, rows));
         const auto target = sc.target.index_select(0, rows);
         const auto pred = irradiance_from_z(z, scale);
         sum += loss(z, target, scale).item<double>();

@@ -678,3 +678,43 @@ TEST(Trainer, TracedInputsStartAsTheWeightsTheyWidenAndLearn) {
     b.run(false);
     EXPECT_GT(columns().abs().max().item<float>(), 0.f) << "training reaches the traced inputs";
 }
+
+// traced_queries from weights without them: the decoder's first layer widened by three zero columns
+// and a zero skip, so the model starts as those weights; the draws cache R at their queries, and
+// with skip_lr_scale the skip learns at lr × that scale (Adam: ~lr · scale a step).
+TEST(Trainer, TracedQueriesStartAsTheWeightsTheyWidenAndTheSkipLearnsAtItsScale) {
+    test::TempDir dir;
+    ModelConfig traced = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    traced.physics = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json")).physics;
+    traced.prior_inputs = true;
+    traced.traced_inputs = 2;
+    ModelConfig queries = traced;
+    queries.traced_queries = true;
+    Trainer a(traced, small_train(0), {dataset_dir()}, dir.path("a"));
+    {
+        torch::NoGradGuard g;
+        torch::manual_seed(9);
+        for (auto &p : a.model()->parameters())
+            if (p.dim() == 2) p.add_(torch::randn_like(p) * 0.2);
+    }
+    const double before = a.validate();
+    save_weights(dir.path("w.safetensors"), a.model());
+    for (const float scale : {1.f, 100.f}) {
+        TrainConfig t = small_train(2);
+        t.lr = 1e-4f, t.skip_lr_scale = scale;
+        Trainer b(queries, t, {dataset_dir()}, dir.path("b" + std::to_string(int(scale))));
+        b.init_weights(dir.path("w.safetensors"));
+        const auto columns = [&] { return b.model()->decoder->named_parameters()["embed.0.weight"].detach().slice(1, 12, 15).clone(); };
+        ASSERT_EQ(columns().size(1), 3);
+        EXPECT_EQ(columns().abs().max().item<float>(), 0.f) << "ln(R / Ê) starts at zero weight";
+        EXPECT_EQ(b.model()->decoder->skip.abs().max().item<float>(), 0.f);
+        EXPECT_NEAR(b.validate(), before, 1e-6 * std::abs(before)) << "the widened model is the model it came from";
+        b.run(false);
+        const double moved = b.model()->decoder->skip.abs().max().item<double>();
+        EXPECT_GT(columns().abs().max().item<float>(), 0.f) << "training reaches the query column";
+        // Two Adam steps of at most ~lr each (warm-up lowers the first): scale 1 stays below 2·lr,
+        // scale 100 goes past it.
+        if (scale == 1.f) EXPECT_LT(moved, 2.5e-4) << "the skip trains with the rest";
+        else EXPECT_GT(moved, 2.5e-3) << "the skip learns at lr × skip_lr_scale";
+    }
+}

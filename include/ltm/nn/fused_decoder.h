@@ -53,6 +53,7 @@ public:
         int64_t n_latents = -1;                     ///< -1 until prepare()
         Dense embed1, embed2, pos1, pos2, out1, out2;   ///< pos1/pos2: γ's Linear layers
         Norm embed_ln, out_ln;
+        std::vector<float> skip;   ///< [3] DecoderConfig::skip_inputs' weights on the query's last 3 columns; empty without
         std::vector<Block> blocks;
     };
 

@@ -45,6 +45,9 @@ struct SceneNormalization {
     /// [M, 6] ModelConfig::traced_inputs: the traced E⁺ (columns 0–2) and the regathered prior (3–5)
     /// at every scene point, raw units (SceneFrame::traced, regathered); undefined without a tracer.
     torch::Tensor point_traced;
+    /// ModelConfig::traced_queries: the transport re-emitting the traced light (SceneFrame::regather),
+    /// gathered at the queries as their regathered prior (regathered_scale). Null without a tracer.
+    std::shared_ptr<const TransportPrior> regather;
     /// Seconds the traced inputs took (tracing and regather; part of the encode, not of the prior).
     double trace_seconds = 0;
     /// Seconds the transport prior's solve took (part of the encode): the model's own prior, the
@@ -120,16 +123,21 @@ struct LtmModelImpl : torch::nn::Module {
     /// here when needed.
     /// With decoder.level_points > 0, z is the level-held output log1p(r · expm1(z_net)), r =
     /// level_factor(latents) (computed at each call, so under autograd r carries its gradient).
-    torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {});
+    /// regathered: regathered_scale(query_points, latents.norm) when already known ([N, 3]); read only
+    /// with traced_queries; undefined: gathered here when needed.
+    torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {},
+                         const torch::Tensor &regathered = {});
     /// The factor that holds the prior's level (DecoderConfig::level_points): with g = expm1(z_net)
     /// at the latents' level queries and S the prior there,  r = Σ_{i,c} S_ic / Σ_{i,c} S_ic g_ic.
     /// 1 (up to rounding) for a decoder at its prior. Invariant to emission and unit like S and g.
     ///   -> [] (a scalar tensor; defined only with level_points > 0)
     torch::Tensor level_factor(const SceneLatents &latents);
     /// The decoder's input rows: normalize_query_points, then with prior_inputs the prior's features
-    /// (prior_features of scale, gathered when undefined).   query_points [N, 9] raw -> [N, 9 (+3)]
+    /// (prior_features of scale, gathered when undefined), then with traced_queries
+    /// traced_query_features(regathered, scale) (regathered gathered when undefined).
+    ///   query_points [N, 9] raw -> [N, 9 (+3) (+3)]
     torch::Tensor query_inputs(const torch::Tensor &query_points, const SceneNormalization &norm,
-                               const torch::Tensor &scale = {}) const;
+                               const torch::Tensor &scale = {}, const torch::Tensor &regathered = {}) const;
     /// Inference in chunks (no autograd): E⁺ = output_scale · expm1(z).  query [N, 9] -> [N, 3].
     /// On CPU the "attention" decoder runs as a FusedDecoder, built from the current weights at every
     /// call (a few ms, so it never sees stale weights) unless fused_inference is false. The fused
@@ -147,7 +155,8 @@ struct LtmModelImpl : torch::nn::Module {
                                    const SceneLatents &latents, int64_t chunk = 2048);
     int64_t n_parameters() const;
     /// The network's own z, before level_factor.   query_points [N, 9] raw -> z [N, 3] >= 0
-    torch::Tensor decode_network(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {});
+    torch::Tensor decode_network(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {},
+                                 const torch::Tensor &regathered = {});
     /// The latents' features [m, C]: latents.features, or the deferred encoder run (computed once).
     torch::Tensor features(const SceneLatents &latents);
 
@@ -171,6 +180,16 @@ TORCH_MODULE(LtmModel);
 /// "transport" prior its value at each query, floored at 10⁻³ · norm.output (a query that faces
 /// no anchor keeps a finite frame).   query_points [N, 9] raw -> [3] or [N, 3]
 torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormalization &norm);
+/// The regathered prior at queries (ModelConfig::traced_queries): norm.regather's gather, floored at
+/// 10⁻³ · norm.output like output_scale. Throws ltm::Error when the frame has no regather (it was
+/// made without the scene's tracer).   query_points [N, 9] raw -> [N, 3]
+torch::Tensor regathered_scale(const torch::Tensor &query_points, const SceneNormalization &norm);
+/// The traced queries' input: ln(R_c / Ê_c) per channel, the regathered prior's ratio to the prior
+/// at each query (0 in a dark channel). A ratio of two irradiances, both linear in emission and
+/// free of the unit: invariant to both. Its value is the log gain that turns the prior into R, so
+/// the decoder's skip (DecoderConfig::skip_inputs) at weight 1 predicts R exactly.
+///   regathered [N, 3], scale [N, 3] -> [N, 3]
+torch::Tensor traced_query_features(const torch::Tensor &regathered, const torch::Tensor &scale);
 /// What the directional head's output is relative to at (query, direction) rows: with cells = 0
 /// the uniform radiance output_scale / π; with cells = R > 0 (and a transport prior) the prior's
 /// radiance in the direction's cell (gather_transport_prior_radiance), floored at

@@ -48,8 +48,13 @@ struct DecoderConfig {
     /// a JSON key: LtmModel sets it from PhysicsConfig::translation_invariant.
     bool absolute_position = true;
     /// Columns after the query's 9 (p, n, albedo). Not a JSON key: LtmModel sets it to 3 when
-    /// ModelConfig::prior_inputs (the prior's Ê⁺ at the query), else 0.
+    /// ModelConfig::prior_inputs (the prior's Ê⁺ at the query), 6 with traced_queries, else 0.
     int extra_inputs = 0;
+    /// The last skip_inputs (3 or 0) query columns also reach 𝓦_out's pre-activation directly, each
+    /// channel times a learned weight (the parameter "skip", [3], zero at the prior): u_c += w_c·x_c.
+    /// Not a JSON key: LtmModel sets it to 3 with ModelConfig::traced_queries, whose column
+    /// x_c = ln(R_c / Ê_c) makes w = 1 the regathered prior exactly (softplus(ln g) = ln(1 + g)).
+    int skip_inputs = 0;
     /// The JSON keys (core/config_fields.h).
     static const ConfigFields<DecoderConfig> &fields();
 };
@@ -187,6 +192,15 @@ struct ModelConfig {
     /// irradiances like the prior's, so emission ×k and unit ×s leave them unchanged. Encoding a
     /// scene then needs its tracer (SceneFrame: PointTracer). 0: off. Needs prior_inputs.
     int traced_inputs = 0;
+    /// With traced_inputs: every query also carries the regathered prior R there (the prior's own
+    /// gather of the traced light, the same R the scene points carry) as ln(R_c / Ê_c), its ratio to
+    /// the prior, and that column reaches the output through a learned per-channel weight besides
+    /// (DecoderConfig::skip_inputs): the decoder can take the traced correction at the query itself
+    /// instead of rebuilding it from its neighbours' noisy points (docs/results.md, sessions 36–37:
+    /// R alone is 0.82× the prior's view MSE on houses, the local gains of k ≤ 256 points are worse
+    /// than the prior). A ratio of two irradiances: emission ×k and unit ×s leave it unchanged.
+    /// Not with decoder.level_points.
+    bool traced_queries = false;
     /// At inference (render, bake-gi, eval, the guide) the point count follows each scene as
     /// `--scene-points auto` does (render/scene_points.h: 16 384, or 32 768 from 100 k triangles,
     /// the prior through its tree) unless --scene-points is given; scene_points stays the count the

@@ -53,7 +53,8 @@ struct QueryDecoderImpl : torch::nn::Module {
     /// model predicts exactly its prior (output_scale) — a start at the closed form, from which
     /// training only has to learn the correction. Gradients still reach every layer after the first step.
     void start_at_prior();
-    /// The output layer's weight and bias: the tensors start_at_prior zeroes (trainer's output_decay).
+    /// The output layer's weight and bias (and the skip's weights): the tensors start_at_prior zeroes
+    /// (trainer's output_decay).
     std::vector<torch::Tensor> output_parameters();
     /// Is 𝓦_out's last Linear exactly zero (weight and bias)? Then z = softplus(0) for every query,
     /// whatever the latents: the model is its prior (LtmModelImpl folds that constant).
@@ -63,6 +64,11 @@ struct QueryDecoderImpl : torch::nn::Module {
     CrossAttentionBlocks blocks;                                   // attention decoder only
     torch::nn::ModuleList ffn{nullptr};                            // knn-mean ablation's one FFN
     torch::nn::Linear latent_proj{nullptr};                       // knn-mean ablation only
+    /// [3] DecoderConfig::skip_inputs: the weights of the query's last columns added to 𝓦_out's
+    /// pre-activation (zero at the prior); undefined without.
+    torch::Tensor skip;
+    /// 𝓦_out and the skip: z = softplus(𝓦_out(h) + skip ⊙ query[:, -skip_inputs:]).   h [N, D], query [N, W] -> [N, 3]
+    torch::Tensor output(const torch::Tensor &h, const torch::Tensor &query);
 };
 TORCH_MODULE(QueryDecoder);
 

@@ -52,6 +52,10 @@ struct SceneFrame {
     /// node, gathered once more: the last bounce the prior's, the rest traced), raw units. Empty
     /// without a tracer.
     std::vector<Vec3f> traced, regathered;
+    /// With a PointTracer: the transport with the traced exitance at its nodes, whose gather is the
+    /// regathered prior anywhere (prior_scale_normalized; ModelConfig::traced_queries reads it at
+    /// the queries). Null without a tracer.
+    std::shared_ptr<const TransportPrior> regather;
     double trace_seconds = 0;   ///< the tracing's and regather's share of the frame's time
 };
 

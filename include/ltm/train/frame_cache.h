@@ -34,6 +34,7 @@ struct FrameCacheEntry {
     torch::Tensor point_prior;      ///< [M, 3] f32, or undefined (without prior_inputs)
     torch::Tensor point_traced;     ///< [M, 6] f32, or undefined (without traced_inputs)
     torch::Tensor query_scale;      ///< [nq, 3] or [3] f32: the prior at the record's queries
+    torch::Tensor query_regathered; ///< [nq, 3] f32: the regathered prior there, or undefined (without traced_queries)
 };
 
 class FrameCache {
@@ -46,8 +47,9 @@ public:
     std::string path_for(const ModelConfig &cfg, const std::string &record_path, int set) const;
     /// The entry, or nothing when the file is absent, malformed or not the prior at the record's
     /// n_queries queries (then with one warning).
-    /// traced: the model has traced inputs, so an entry without them is a miss.
-    std::optional<FrameCacheEntry> load(const std::string &path, int64_t n_queries, bool traced = false) const;
+    /// traced: the model has traced inputs, so an entry without them is a miss; traced_queries: the
+    /// same for the regathered prior at the queries.
+    std::optional<FrameCacheEntry> load(const std::string &path, int64_t n_queries, bool traced = false, bool traced_queries = false) const;
     /// Writes the entry atomically.
     void store(const std::string &path, const FrameCacheEntry &entry) const;
 

@@ -58,6 +58,12 @@ struct TrainConfig {
     /// A pull toward the prior that each step pays on every house: a correction must earn its size
     /// on all of them, not on the few whose noise it fits (docs/results.md, session 35). 0 = off.
     float output_decay = 0.f;
+    /// The decoder's skip weights (DecoderConfig::skip_inputs, ModelConfig::traced_queries) learn at
+    /// lr × skip_lr_scale, in a group of their own without weight decay. Adam moves a weight by
+    /// ~lr a step, and the skip's natural scale is 1 (w = 1: the regathered prior), so at lr 3·10⁻⁴
+    /// it would take thousands of steps to reach what one scalar per channel says; the other
+    /// weights' steps are not changed. 1 = off (the skip trains with the rest).
+    float skip_lr_scale = 1.f;
     /// Point sets per training house: the record's own and point_sets − 1 more, sampled afresh
     /// from the regenerated house (seeds derived from the record's); each draw uses one at random.
     /// The prior's view level varies 5–10 % between point sets of one house (docs/results.md,
@@ -197,9 +203,14 @@ private:
         /// the frame's centre (apply_symmetry) instead of solving the transport again (~1 s a step).
         SceneNormalization frame;
         torch::Tensor query_scale;
+        /// ModelConfig::traced_queries: the regathered prior at every query [nq, 3] (invariant
+        /// under the symmetries like the prior); undefined without.
+        torch::Tensor query_regathered;
     };
     /// The cached output scale of query rows idx [n] -> [n, 3] (or [3] for the flat prior).
     static torch::Tensor query_scale(const CachedScene &sc, const torch::Tensor &idx);
+    /// The cached regathered prior of query rows idx [n] -> [n, 3] (undefined without traced_queries).
+    static torch::Tensor query_regathered(const CachedScene &sc, const torch::Tensor &idx);
     /// The scene's latents under symmetry sym (cached when the encoder is frozen).
     SceneLatents latents(CachedScene &sc, const torch::Tensor &scene_points, int sym);
     /// The directional head's loss on `share` (point, direction) pairs of scene draw u.
@@ -233,6 +244,7 @@ private:
     torch::Device m_device;
     LtmModel m_model{nullptr};
     std::unique_ptr<torch::optim::AdamW> m_opt;
+    std::vector<double> m_group_lr_scale;   ///< per optimizer group: its lr is the schedule's × this (skip_lr_scale)
     /// The data-parallel group; a group of one (every collective the identity) unless set.
     std::shared_ptr<Communicator> m_comm = std::make_shared<Communicator>(DistSettings{}, "");
     std::vector<std::string> m_train_paths, m_val_paths;

@@ -1,0 +1,153 @@
+// traced_queries_test.cpp: ModelConfig::traced_queries (issue #30, session 37) — every query also
+// carries ln(R / Ê), the regathered prior's ratio to the prior there, and that column reaches the
+// output through the decoder's learned skip. At skip 1 with the output layer zero the model is the
+// regathered prior exactly; at skip 0 it is its prior (and folds); the fused decoder and libtorch
+// agree; the column keeps the exact symmetries; the trainer's cached R is the gathered one. The
+// trainer's side (the widening conversion, skip_lr_scale): tests/train/trainer_test.cpp.
+#include <string>
+
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "ltm/core/error.h"
+#include "ltm/infer/prior_model.h"
+#include "ltm/nn/ltm_model.h"
+#include "ltm/render/embree_accel.h"
+#include "ltm/scene/scene_transform.h"
+#include "test_util.h"
+#include "tiny_scene_fixture.h"
+
+using namespace ltm;
+
+namespace {
+using test::random_model;
+struct Fixture : test::TinySceneFixture {
+    Fixture() : TinySceneFixture(200) {
+        cfg = test::with_prior_inputs(cfg);
+        cfg.traced_inputs = 4;
+        cfg.traced_queries = true;
+    }
+};
+
+void set_skip(LtmModel &m, float w) {
+    torch::NoGradGuard g;
+    m->decoder->skip.fill_(w);
+}
+}  // namespace
+
+TEST(TracedQueries, ConfigNeedsTracedInputsAndStaysOutOfOlderJson) {
+    Fixture f;
+    const auto j = f.cfg.to_json();
+    EXPECT_TRUE(j.at("traced_queries").get<bool>());
+    EXPECT_TRUE(ModelConfig::from_json(j, "t").traced_queries);
+    auto untraced = j;
+    untraced.erase("traced_inputs");
+    EXPECT_THROW(ModelConfig::from_json(untraced, "t"), Error);
+    auto held = j;
+    held["decoder"]["level_points"] = 64;
+    EXPECT_THROW(ModelConfig::from_json(held, "t"), Error) << "the level queries carry no regathered prior";
+    ModelConfig plain = f.cfg;
+    plain.traced_queries = false;
+    EXPECT_FALSE(plain.to_json().contains("traced_queries")) << "written only when set: older weights keep their JSON";
+    const LtmModel m(f.cfg);
+    EXPECT_EQ(m->cfg.decoder.extra_inputs, 6) << "the prior's 3 and ln(R / Ê)";
+    EXPECT_EQ(m->cfg.decoder.skip_inputs, 3);
+    ASSERT_TRUE(m->decoder->skip.defined());
+    EXPECT_EQ(m->decoder->named_parameters().find("skip")->sizes(), (c10::IntArrayRef{3}));
+    EXPECT_FALSE(LtmModel(plain)->decoder->skip.defined());
+}
+
+// softplus(ln g) = ln(1 + g): with 𝓦_out zero and skip 1, E⁺ = Ê · g = R at every query, through
+// the fused decoder and the libtorch modules alike; skip 0 is the prior, which then folds (no
+// tracing, no network).
+TEST(TracedQueries, SkipOneIsTheRegatheredPriorAndSkipZeroThePrior) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 3);
+    m->decoder->start_at_prior();
+    EXPECT_TRUE(m->decoder->at_prior());
+    set_skip(m, 1.f);
+    EXPECT_FALSE(m->decoder->at_prior()) << "a skip that is not zero is a network at work";
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const auto geometry = m->scene_geometry(f.sp);
+    const SceneLatents lat = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    ASSERT_TRUE(lat.norm.regather);
+    const auto r = regathered_scale(f.qp, lat.norm), prior = prior_irradiance(f.qp, lat.norm);
+    EXPECT_GT(test::relative_error(r, prior), 0.01) << "the traced light differs from the prior's (2 % here; the check below is to 1e-5)";
+    const auto fused = m->predict_irradiance(f.qp, lat);
+    EXPECT_LT(test::relative_error(fused, r), 1e-5);
+    m->fused_inference = false;
+    EXPECT_LT(test::relative_error(m->predict_irradiance(f.qp, lat), r), 1e-5);
+    m->fused_inference = true;
+    set_skip(m, 0.f);
+    EXPECT_TRUE(m->decoder->at_prior());
+    const SceneLatents folded = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    EXPECT_FALSE(folded.norm.regather) << "a model at its prior does not trace";
+    EXPECT_TRUE(torch::equal(m->predict_irradiance(f.qp, folded), prior_irradiance(f.qp, folded.norm)));
+}
+
+// A random network with a random skip: the fused kernel and the libtorch modules give the same E⁺,
+// and decode() with R handed in (the trainer's cache) is decode() that gathers it.
+TEST(TracedQueries, FusedEqualsLibtorchAndTheCachedRegatherIsTheGatheredOne) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 5);
+    {
+        torch::NoGradGuard g;
+        m->decoder->skip.copy_(torch::tensor({0.7f, -0.4f, 1.3f}));
+    }
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const SceneLatents lat = m->encode(f.sp, m->scene_geometry(f.sp), {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    const auto fused = m->predict_irradiance(f.qp, lat);
+    m->fused_inference = false;
+    EXPECT_LT(test::relative_error(fused, m->predict_irradiance(f.qp, lat)), 1e-4);
+    const auto scale = output_scale(f.qp, lat.norm), r = regathered_scale(f.qp, lat.norm);
+    EXPECT_TRUE(torch::equal(m->decode(f.qp, lat, scale, r), m->decode(f.qp, lat)));
+    // The skip reads the last three columns: they are ln(R / Ê).
+    const auto q = m->query_inputs(f.qp, lat.norm);
+    ASSERT_EQ(q.size(1), 15);
+    EXPECT_TRUE(torch::allclose(q.slice(1, 12, 15), torch::log(r / scale), 1e-5, 1e-6));
+    SceneLatents bare = lat;
+    bare.norm.regather.reset();
+    try {
+        m->predict_irradiance(f.qp, bare);
+        ADD_FAILURE() << "decoded a traced-queries model without its regathered prior";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("traced queries"), std::string::npos) << e.what();
+    }
+}
+
+// Emission ×4 (the scene traced with 4× the light, the points 4× as bright): ln(R / Ê) unchanged and
+// E⁺ ×4. Lengths ×8: unchanged up to the few paths whose absolute ray offsets graze an edge.
+TEST(TracedQueries, TheQueryColumnKeepsTheSymmetries) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 7);
+    {
+        torch::NoGradGuard g;
+        m->decoder->skip.fill_(0.8f);
+    }
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const auto geometry = m->scene_geometry(f.sp);
+    const SceneLatents lat = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    const auto column = [&](const torch::Tensor &qp, const SceneLatents &l) { return m->query_inputs(qp, l.norm).slice(1, 12, 15); };
+    const auto base = column(f.qp, lat);
+    EXPECT_GT(base.abs().max().item<double>(), 0.05);
+    const auto e = m->predict_irradiance(f.qp, lat);
+
+    Scene bright = f.scene;
+    scale_emission(bright, 4.f);
+    const EmbreeAccel accel4(bright);
+    const auto sp4 = test::scaled(f.sp, 9, 12, 4.0);
+    const SceneLatents lat4 = m->encode(sp4, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel4));
+    EXPECT_LT((column(f.qp, lat4) - base).abs().max().item<double>(), 1e-4);
+    EXPECT_LT(test::relative_error(m->predict_irradiance(f.qp, lat4), 4.0 * e), 1e-4);
+
+    Scene big = f.scene;
+    scale_lengths(big, 8.f);
+    const EmbreeAccel accel8(big);
+    const auto sp8 = test::scaled(f.sp, 0, 3, 8.0), qp8 = test::scaled(f.qp, 0, 3, 8.0);
+    const SceneLatents lat8 = m->encode(sp8, m->scene_geometry(sp8), {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel8));
+    EXPECT_LT((column(qp8, lat8) - base).abs().mean().item<double>(), 1e-3);
+    EXPECT_LT(test::relative_error(m->predict_irradiance(qp8, lat8), e), 3e-2);
+}
