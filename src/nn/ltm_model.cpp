@@ -125,6 +125,7 @@ SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, 
                                              std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer) const {
     SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion),
                                                cfg.traced_inputs > 0 ? tracer : PointTracer{});
+    if (!cfg.traced_queries) n.regather.reset();   // only the queries' column reads it: its memory is the prior's again
     // The points as queries, so a query at a scene point sees that point's feature (and the level
     // points their prior: decoder.level_points reads it, with or without prior inputs).
     if (cfg.prior_inputs || cfg.decoder.level_points > 0) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);

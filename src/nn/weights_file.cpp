@@ -66,6 +66,18 @@ bool network_silenced(const WeightsFile &w, const std::string &path) {
         it->second.copy_f32(v.data(), path + ": tensor '" + name + "'");
         for (const float x : v) zero &= x == 0.f;
     }
+    // ModelConfig::traced_queries: the skip carries ln(R / Ê) past the output layer, so a zero layer
+    // with a nonzero skip is the regathered prior, not the prior (QueryDecoderImpl::at_prior).
+    const auto skip = w.file.tensors.find("decoder.skip");
+    if (w.config.traced_queries && skip == w.file.tensors.end())
+        LTM_THROW(path, ": missing tensor 'decoder.skip': the config has traced_queries");
+    if (skip != w.file.tensors.end()) {
+        if (skip->second.shape != std::vector<int64_t>{3})
+            LTM_THROW(path, ": tensor 'decoder.skip' has shape ", shape_string(skip->second.shape), ", the model expects [3]");
+        std::vector<float> v(skip->second.numel());
+        skip->second.copy_f32(v.data(), path + ": tensor 'decoder.skip'");
+        for (const float x : v) zero &= x == 0.f;
+    }
     return zero;
 }
 

@@ -67,7 +67,7 @@ const ConfigFields<TrainConfig> &TrainConfig::fields() {
             .omit_default()
             .field("target_cap", &C::target_cap, "> 0: training targets clamped at target_cap × the scene's level (note 2); validation never", at_least(0))
             .field("output_decay", &C::output_decay, "> 0: the decoder's output layer's AdamW weight decay (a pull toward the prior), the rest keeps weight_decay", at_least(0))
-            .field("skip_lr_scale", &C::skip_lr_scale, "the decoder's skip weights (traced_queries) learn at lr × this, without weight decay; 1 = with the rest", at_least(0))
+            .field("skip_lr_scale", &C::skip_lr_scale, "the decoder's skip weights (traced_queries) learn at lr × this, never decayed; 1 = at the common lr", at_least(0))
             .omit_default()
             .field("point_sets", &C::point_sets, "scene point sets per training house, one drawn per step (note 6)", between(1, 64))
             .omit_default()
@@ -152,10 +152,12 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
         for (auto &p : m_model->decoder->parameters()) p.requires_grad_(false);
     // output_decay: the decoder's output layer in a group of its own, with its own decay (toward 0,
     // i.e. toward the prior); one group otherwise, as before.
-    // skip_lr_scale: the decoder's skip in a group of its own, at lr × the scale and no decay.
-    const torch::Tensor skip = cfg.skip_lr_scale != 1.f && m_model->decoder->skip.defined() && m_model->decoder->skip.requires_grad()
-                                   ? m_model->decoder->skip
-                                   : torch::Tensor();
+    // The decoder's skip (traced_queries) in a group of its own, at lr × skip_lr_scale and never
+    // decayed: its zero is the prior, but its scale is 1 and a pull toward 0 is a bias, not a prior.
+    const torch::Tensor skip =
+        m_model->decoder->skip.defined() && m_model->decoder->skip.requires_grad() ? m_model->decoder->skip : torch::Tensor();
+    if (!m_model->decoder->skip.defined() && cfg.skip_lr_scale != 1.f)
+        log_warn("skip_lr_scale ", cfg.skip_lr_scale, " is ignored: model '", m_model->cfg.name, "' has no decoder skip (traced_queries)");
     std::vector<torch::Tensor> out_layer;
     if (cfg.output_decay > 0.f)
         for (auto &p : m_model->decoder->output_parameters())

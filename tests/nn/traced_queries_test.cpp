@@ -11,7 +11,9 @@
 
 #include "ltm/core/error.h"
 #include "ltm/infer/prior_model.h"
+#include "ltm/nn/checkpoint.h"
 #include "ltm/nn/ltm_model.h"
+#include "ltm/points/safetensors.h"
 #include "ltm/render/embree_accel.h"
 #include "ltm/scene/scene_transform.h"
 #include "test_util.h"
@@ -150,4 +152,24 @@ TEST(TracedQueries, TheQueryColumnKeepsTheSymmetries) {
     const SceneLatents lat8 = m->encode(sp8, m->scene_geometry(sp8), {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel8));
     EXPECT_LT((column(qp8, lat8) - base).abs().mean().item<double>(), 1e-3);
     EXPECT_LT(test::relative_error(m->predict_irradiance(qp8, lat8), e), 3e-2);
+}
+
+// The torch-free prior path (infer/prior_model.h) takes a weights file whose network is silenced:
+// with traced queries that is the output layer *and* the skip at zero. A zero layer with skip 1 is the
+// regathered prior (scripts/analysis/decoder_skip.py makes one), not the prior; a traced-queries file
+// without its skip is refused.
+TEST(TracedQueries, OnlyAZeroSkipIsASilencedNetwork) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 11);
+    m->decoder->start_at_prior();
+    test::TempDir dir;
+    save_weights(dir.path("prior.safetensors"), m);
+    EXPECT_TRUE(load_prior_model(dir.path("prior.safetensors")).silenced);
+    set_skip(m, 1.f);
+    save_weights(dir.path("regather.safetensors"), m);
+    EXPECT_FALSE(load_prior_model(dir.path("regather.safetensors")).silenced) << "skip 1 is the regathered prior";
+    SafetensorsFile without = read_safetensors(dir.path("prior.safetensors"));
+    ASSERT_EQ(without.tensors.erase("decoder.skip"), 1u);
+    write_safetensors(dir.path("without.safetensors"), without);
+    EXPECT_THROW(load_prior_model(dir.path("without.safetensors")), Error);
 }

@@ -714,7 +714,7 @@ TEST(Trainer, TracedQueriesStartAsTheWeightsTheyWidenAndTheSkipLearnsAtItsScale)
         EXPECT_GT(columns().abs().max().item<float>(), 0.f) << "training reaches the query column";
         // Two Adam steps of at most ~lr each (warm-up lowers the first): scale 1 stays below 2·lr,
         // scale 100 goes past it.
-        if (scale == 1.f) EXPECT_LT(moved, 2.5e-4) << "the skip trains with the rest";
+        if (scale == 1.f) EXPECT_LT(moved, 2.5e-4) << "the skip at the common lr";
         else EXPECT_GT(moved, 2.5e-3) << "the skip learns at lr × skip_lr_scale";
     }
 }

@@ -1,5 +1,5 @@
 // prior_model.h: a model at its prior, rendered without libtorch. A weights file whose network is
-// silenced (its decoder's output layer zero: the shipped model) predicts its closed-form prior at
+// silenced (its decoder's output layer zero, and its skip if it has one: the shipped model) predicts its closed-form prior at
 // every query (nn/scene_frame.h), so sampling its scene points, solving its frame and gathering the
 // prior is the whole model: the same numbers as the tensor model (infer/neural_renderer.h), which a
 // test holds together, without loading libtorch. Also the model's point options (`--scene-points`,

@@ -166,8 +166,8 @@ struct LtmModelImpl : torch::nn::Module {
     QueryDecoder decoder{nullptr};
     DirectionalDecoder directional{nullptr};   ///< null unless cfg.directional
     bool fused_inference = true;   ///< predict_irradiance on CPU uses FusedDecoder (false: libtorch modules)
-    /// Constant folding of a model that is its prior (decoder->at_prior(): the output layer exactly
-    /// zero, as --start-at-prior leaves it): without autograd, encode() skips the embedding and encoder (features
+    /// Constant folding of a model that is its prior (decoder->at_prior(): the output layer and the
+    /// skip exactly zero, as --start-at-prior leaves them): without autograd, encode() skips the embedding and encoder (features
     /// = zeros without a directional head; with one, deferred until the head asks: SceneLatents::Deferred)
     /// and predict_irradiance() skips kNN and the decoder,
     /// whose output is then softplus(0) whatever its input. Same numbers, ~1.5 s less per 512²

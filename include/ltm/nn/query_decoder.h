@@ -45,18 +45,18 @@ torch::Tensor anchor_offsets(const torch::Tensor &query, const torch::Tensor &an
 
 struct QueryDecoderImpl : torch::nn::Module {
     QueryDecoderImpl(const DecoderConfig &cfg, int64_t latent_dim);
-    //   query [N, 9 + extra_inputs] (normalised p, n, albedo[, prior features]), latents [m, C], anchors [m, 3], idx [N, κ]  ->  z [N, 3]
+    //   query [N, 9 + extra_inputs] (normalised p, n, albedo[, prior features][, ln(R / Ê)]), latents [m, C], anchors [m, 3], idx [N, κ]  ->  z [N, 3]
     torch::Tensor forward(const torch::Tensor &query, const torch::Tensor &latents, const torch::Tensor &anchors,
                           const torch::Tensor &idx);
     DecoderConfig cfg;
-    /// Zeroes 𝓦_out's last Linear: z = softplus(0) = ln 2 for every query, so expm1(z) = 1 and the
+    /// Zeroes 𝓦_out's last Linear (and the skip): z = softplus(0) = ln 2 for every query, so expm1(z) = 1 and the
     /// model predicts exactly its prior (output_scale) — a start at the closed form, from which
     /// training only has to learn the correction. Gradients still reach every layer after the first step.
     void start_at_prior();
     /// The output layer's weight and bias (and the skip's weights): the tensors start_at_prior zeroes
     /// (trainer's output_decay).
     std::vector<torch::Tensor> output_parameters();
-    /// Is 𝓦_out's last Linear exactly zero (weight and bias)? Then z = softplus(0) for every query,
+    /// Is 𝓦_out's last Linear exactly zero (weight and bias), and the skip if there is one? Then z = softplus(0) for every query,
     /// whatever the latents: the model is its prior (LtmModelImpl folds that constant).
     bool at_prior() const;
     torch::nn::Sequential embed{nullptr}, out{nullptr};            // 𝓗 (eq. 9) and 𝓦_out (eq. 14)

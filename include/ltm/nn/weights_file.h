@@ -22,8 +22,8 @@ struct WeightsFile {
 /// a valid config, tensors of F32 or F16. Throws "path: ..." naming what is wrong.
 WeightsFile read_weights_file(const std::string &path);
 
-/// True when the decoder's output layer (the last "decoder.out.<i>" Linear) is exactly zero: the
-/// network is silenced and the model is its closed-form prior wherever it is asked
+/// True when the decoder's output layer (the last "decoder.out.<i>" Linear) and, with
+/// traced_queries, its skip ("decoder.skip") are exactly zero: the network is silenced and the model is its closed-form prior wherever it is asked
 /// (QueryDecoder::at_prior, --start-at-prior). A file without that layer, or with it in another
 /// shape than the config's, is refused ("path: ..."). The other tensors are not read: a model at its
 /// prior renders from its config alone (infer/prior_model.h).

@@ -53,16 +53,17 @@ struct TrainConfig {
     /// level) make the loss heavy-tailed, and the view metric clamps at its 99th percentile anyway.
     /// Validation is never capped; the irradiance head only (refused with head "directional"). 0 = off.
     float target_cap = 0.f;
-    /// > 0: the decoder's output layer (the last Linear, whose zero is the prior: start_at_prior)
-    /// takes this AdamW weight decay instead of weight_decay, every other weight keeps weight_decay.
+    /// > 0: the decoder's output layer (the last Linear, whose zero is the prior: start_at_prior;
+    /// not the skip, see skip_lr_scale) takes this AdamW weight decay instead of weight_decay, every other weight keeps weight_decay.
     /// A pull toward the prior that each step pays on every house: a correction must earn its size
     /// on all of them, not on the few whose noise it fits (docs/results.md, session 35). 0 = off.
     float output_decay = 0.f;
     /// The decoder's skip weights (DecoderConfig::skip_inputs, ModelConfig::traced_queries) learn at
-    /// lr × skip_lr_scale, in a group of their own without weight decay. Adam moves a weight by
-    /// ~lr a step, and the skip's natural scale is 1 (w = 1: the regathered prior), so at lr 3·10⁻⁴
-    /// it would take thousands of steps to reach what one scalar per channel says; the other
-    /// weights' steps are not changed. 1 = off (the skip trains with the rest).
+    /// lr × skip_lr_scale, always in a group of their own without weight decay (neither weight_decay
+    /// nor output_decay: their scale is 1, so a pull toward 0 would bias them). Adam moves a weight
+    /// by ~lr a step, and w = 1 is the regathered prior, so at lr 3·10⁻⁴ it would take thousands of
+    /// steps to reach what one scalar per channel says; the other weights' steps are not changed.
+    /// 1: the skip at the common lr. Ignored (one warning) for a model without a skip.
     float skip_lr_scale = 1.f;
     /// Point sets per training house: the record's own and point_sets − 1 more, sampled afresh
     /// from the regenerated house (seeds derived from the record's); each draw uses one at random.
