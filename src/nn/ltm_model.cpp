@@ -18,14 +18,6 @@
 namespace ltm {
 
 namespace {
-torch::Tensor gathered_normalized(const torch::Tensor &q, const TransportPrior &transport, const SceneNormalization &norm);
-
-// output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]
-torch::Tensor output_scale_normalized(const torch::Tensor &q, const SceneNormalization &norm) {
-    if (!norm.transport) return norm.output;
-    return gathered_normalized(q, *norm.transport, norm);
-}
-
 // A transport (the prior or its regather) gathered at queries in the normalised frame and floored
 // at 10⁻³ · norm.output (prior_scale_normalized).   q [N, 9] -> [N, 3]
 torch::Tensor gathered_normalized(const torch::Tensor &q, const TransportPrior &transport, const SceneNormalization &norm) {
@@ -36,6 +28,12 @@ torch::Tensor gathered_normalized(const torch::Tensor &q, const TransportPrior &
     prior_scale_normalized(&transport, Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>()), qc.data_ptr<float>(), 9,
                            size_t(qc.size(0)), reinterpret_cast<Vec3f *>(out.data_ptr<float>()));
     return out.to(norm.output.device());
+}
+
+// output_scale for queries already in the normalised frame.   q [N, 9] -> [3] or [N, 3]
+torch::Tensor output_scale_normalized(const torch::Tensor &q, const SceneNormalization &norm) {
+    if (!norm.transport) return norm.output;
+    return gathered_normalized(q, *norm.transport, norm);
 }
 
 torch::Tensor vec3_tensor(Vec3f v, const torch::TensorOptions &opts) { return torch::tensor({v.x, v.y, v.z}).to(opts); }

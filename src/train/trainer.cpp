@@ -158,15 +158,18 @@ Trainer::Trainer(const ModelConfig &model_cfg, const TrainConfig &cfg, const std
         m_model->decoder->skip.defined() && m_model->decoder->skip.requires_grad() ? m_model->decoder->skip : torch::Tensor();
     if (!m_model->decoder->skip.defined() && cfg.skip_lr_scale != 1.f)
         log_warn("skip_lr_scale ", cfg.skip_lr_scale, " is ignored: model '", m_model->cfg.name, "' has no decoder skip (traced_queries)");
+    const auto in = [](const std::vector<torch::Tensor> &group, const torch::Tensor &p) {
+        return std::any_of(group.begin(), group.end(), [&](const torch::Tensor &o) { return o.is_same(p); });
+    };
+    std::vector<torch::Tensor> own_groups;   // every parameter that is not in the common group
+    if (skip.defined()) own_groups.push_back(skip);
     std::vector<torch::Tensor> out_layer;
     if (cfg.output_decay > 0.f)
         for (auto &p : m_model->decoder->output_parameters())
-            if (p.requires_grad() && !(skip.defined() && p.is_same(skip))) out_layer.push_back(p);
+            if (p.requires_grad() && !in(own_groups, p)) out_layer.push_back(p), own_groups.push_back(p);
     std::vector<torch::Tensor> trained;
     for (auto &p : m_model->parameters())
-        if (p.requires_grad() && !(skip.defined() && p.is_same(skip)) &&
-            std::none_of(out_layer.begin(), out_layer.end(), [&](const torch::Tensor &o) { return o.is_same(p); }))
-            trained.push_back(p);
+        if (p.requires_grad() && !in(own_groups, p)) trained.push_back(p);
     const auto adamw = [&](double decay) { return torch::optim::AdamWOptions(cfg.lr).weight_decay(decay); };
     std::vector<torch::optim::OptimizerParamGroup> groups;
     groups.emplace_back(trained, std::make_unique<torch::optim::AdamWOptions>(adamw(cfg.weight_decay)));

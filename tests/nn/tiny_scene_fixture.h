@@ -33,6 +33,15 @@ inline ModelConfig with_prior_inputs(ModelConfig cfg) {
     return cfg;
 }
 
+/// The tiny room with prior inputs and traced inputs of 4 strata: what the traced-inputs and
+/// traced-queries tests build on.
+struct TracedSceneFixture : TinySceneFixture {
+    TracedSceneFixture() : TinySceneFixture(200) {
+        cfg = with_prior_inputs(cfg);
+        cfg.traced_inputs = 4;
+    }
+};
+
 /// A model (eval mode, seeded) with every weight matrix N(0, 0.5²), so extra input columns matter.
 inline LtmModel random_model(const ModelConfig &cfg, uint64_t seed) {
     torch::manual_seed(seed);

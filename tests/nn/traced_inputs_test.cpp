@@ -25,12 +25,7 @@ using namespace ltm;
 namespace {
 using test::random_model;
 // The tiny model with the shipped prior's physics (as prior_inputs_test.cpp), prior and traced inputs.
-struct Fixture : test::TinySceneFixture {
-    Fixture() : TinySceneFixture(200) {
-        cfg = test::with_prior_inputs(cfg);
-        cfg.traced_inputs = 4;
-    }
-};
+using Fixture = test::TracedSceneFixture;
 
 // The traced inputs the encoder reads (log1p of traced E⁺ and regathered prior over S·Σρ̄^k), [M, 6].
 torch::Tensor traced_features(const SceneLatents &lat) {

@@ -23,12 +23,8 @@ using namespace ltm;
 
 namespace {
 using test::random_model;
-struct Fixture : test::TinySceneFixture {
-    Fixture() : TinySceneFixture(200) {
-        cfg = test::with_prior_inputs(cfg);
-        cfg.traced_inputs = 4;
-        cfg.traced_queries = true;
-    }
+struct Fixture : test::TracedSceneFixture {
+    Fixture() { cfg.traced_queries = true; }
 };
 
 void set_skip(LtmModel &m, float w) {

@@ -24,6 +24,13 @@ const std::string &dataset_dir() {
     static const test::RemoveAtExit cleanup{dir};
     return dir;
 }
+// tiny.json with the shipped prior's physics (cpu-pi's) and prior inputs: what the traced conversions widen.
+ModelConfig tiny_with_prior_inputs() {
+    ModelConfig c = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
+    c.physics = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json")).physics;
+    c.prior_inputs = true;
+    return c;
+}
 TrainConfig small_train(int steps) {
     TrainConfig t;
     t.steps = steps;
@@ -32,6 +39,20 @@ TrainConfig small_train(int steps) {
     t.val_every = 1000, t.ckpt_every = 1000, t.log_every = 1000;
     t.val_fraction = 0.5f;
     return t;
+}
+// Weights of `cfg` with every matrix moved off its init (seed 9, σ 0.2), saved as dir/w.safetensors;
+// returns their validation loss on this file's dataset, the value a widened model must keep.
+double save_perturbed_weights(const ModelConfig &cfg, const test::TempDir &dir) {
+    Trainer a(cfg, small_train(0), {dataset_dir()}, dir.path("a"));
+    {
+        torch::NoGradGuard g;
+        torch::manual_seed(9);
+        for (auto &p : a.model()->parameters())
+            if (p.dim() == 2) p.add_(torch::randn_like(p) * 0.2);
+    }
+    const double before = a.validate();
+    save_weights(dir.path("w.safetensors"), a.model());
+    return before;
 }
 }  // namespace
 
@@ -655,20 +676,10 @@ TEST(Trainer, DirectionalHeadLearnsTheBinsOfItsScenes) {
 // the same validation to rounding — and training then moves the new columns.
 TEST(Trainer, TracedInputsStartAsTheWeightsTheyWidenAndLearn) {
     test::TempDir dir;
-    ModelConfig pi = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
-    pi.physics = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json")).physics;
-    pi.prior_inputs = true;
+    const ModelConfig pi = tiny_with_prior_inputs();
     ModelConfig traced = pi;
     traced.traced_inputs = 2;
-    Trainer a(pi, small_train(0), {dataset_dir()}, dir.path("a"));
-    {
-        torch::NoGradGuard g;
-        torch::manual_seed(9);
-        for (auto &p : a.model()->parameters())
-            if (p.dim() == 2) p.add_(torch::randn_like(p) * 0.2);
-    }
-    const double before = a.validate();
-    save_weights(dir.path("w.safetensors"), a.model());
+    const double before = save_perturbed_weights(pi, dir);
     Trainer b(traced, small_train(2), {dataset_dir()}, dir.path("b"));
     b.init_weights(dir.path("w.safetensors"));
     const auto columns = [&] { return b.model()->embedding->named_parameters()["f.0.weight"].detach().slice(1, 15, 21).clone(); };
@@ -684,21 +695,11 @@ TEST(Trainer, TracedInputsStartAsTheWeightsTheyWidenAndLearn) {
 // with skip_lr_scale the skip learns at lr × that scale (Adam: ~lr · scale a step).
 TEST(Trainer, TracedQueriesStartAsTheWeightsTheyWidenAndTheSkipLearnsAtItsScale) {
     test::TempDir dir;
-    ModelConfig traced = ModelConfig::from_file(test::source_path("configs/model/tiny.json"));
-    traced.physics = ModelConfig::from_file(test::source_path("configs/model/cpu-pi.json")).physics;
-    traced.prior_inputs = true;
+    ModelConfig traced = tiny_with_prior_inputs();
     traced.traced_inputs = 2;
     ModelConfig queries = traced;
     queries.traced_queries = true;
-    Trainer a(traced, small_train(0), {dataset_dir()}, dir.path("a"));
-    {
-        torch::NoGradGuard g;
-        torch::manual_seed(9);
-        for (auto &p : a.model()->parameters())
-            if (p.dim() == 2) p.add_(torch::randn_like(p) * 0.2);
-    }
-    const double before = a.validate();
-    save_weights(dir.path("w.safetensors"), a.model());
+    const double before = save_perturbed_weights(traced, dir);
     for (const float scale : {1.f, 100.f}) {
         TrainConfig t = small_train(2);
         t.lr = 1e-4f, t.skip_lr_scale = scale;
