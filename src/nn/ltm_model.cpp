@@ -41,7 +41,7 @@ torch::Tensor vec3_tensor(Vec3f v, const torch::TensorOptions &opts) { return to
 
 SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeometry &geometry, const PhysicsConfig &physics,
                                        const torch::Tensor &emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion,
-                                       const PointTracer &tracer) {
+                                       const PointTracer &tracer, bool point_inputs) {
     TORCH_CHECK(sp.dim() == 2 && sp.size(1) == 12, "scene points must be [M, 12], got ", sp.sizes());
     const auto c = sp.detach().to(torch::kCPU, torch::kFloat32).contiguous();
     PointGroups g;
@@ -59,7 +59,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     }
     // One implementation of the frame, tensor model or not (nn/scene_frame.h).
     const SceneFrame f = solve_scene_frame(c.data_ptr<float>(), size_t(c.size(0)), g, physics, emission_scale.defined() ? &given : nullptr,
-                                           std::move(occlusion), tracer);
+                                           std::move(occlusion), tracer, point_inputs);
     const auto opts = sp.options();
     SceneNormalization n;
     n.center = vec3_tensor(f.center, opts);
@@ -70,7 +70,7 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     n.regather = f.regather;
     n.solve_seconds = f.solve_seconds;
     n.trace_seconds = f.trace_seconds;
-    if (!f.traced.empty()) {
+    if (!f.regathered.empty()) {
         const int64_t m = int64_t(f.traced.size());
         const auto traced = torch::from_blob(const_cast<Vec3f *>(f.traced.data()), {m, 3}, torch::kFloat32);
         const auto regathered = torch::from_blob(const_cast<Vec3f *>(f.regathered.data()), {m, 3}, torch::kFloat32);
@@ -94,6 +94,14 @@ torch::Tensor normalize_query_points(const torch::Tensor &qp, const SceneNormali
 }
 
 LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
+    // The JSON reader refuses these with the file's line; a config built in code meets them here,
+    // before a shape error deep in the embedding or the decoder would.
+    if (cfg.traced_inputs > 0 && !cfg.prior_inputs)
+        LTM_THROW("model '", cfg.name, "': traced inputs need prior_inputs (they stand beside the prior's own)");
+    if (cfg.traced_queries && cfg.traced_inputs <= 0)
+        LTM_THROW("model '", cfg.name, "': traced queries need traced_inputs > 0 (the traced light they regather)");
+    if (cfg.traced_queries && cfg.decoder.level_points > 0)
+        LTM_THROW("model '", cfg.name, "': traced queries do not combine with decoder.level_points");
     cfg.encoder.in_channels = cfg.embedding.dim;
     cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
     cfg.embedding.extra_inputs = cfg.decoder.extra_inputs = cfg.prior_inputs ? 3 : 0;
@@ -120,13 +128,14 @@ SceneGeometry LtmModelImpl::scene_geometry(const torch::Tensor &scene_points) co
 
 SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                              const torch::Tensor &emission_scale,
-                                             std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer) const {
+                                             std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer,
+                                             bool point_inputs) const {
     SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion),
-                                               cfg.traced_inputs > 0 ? tracer : PointTracer{});
+                                               cfg.traced_inputs > 0 ? tracer : PointTracer{}, point_inputs);
     if (!cfg.traced_queries) n.regather.reset();   // only the queries' column reads it: its memory is the prior's again
     // The points as queries, so a query at a scene point sees that point's feature (and the level
     // points their prior: decoder.level_points reads it, with or without prior inputs).
-    if (cfg.prior_inputs || cfg.decoder.level_points > 0) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
+    if ((cfg.prior_inputs && point_inputs) || cfg.decoder.level_points > 0) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
     return n;
 }
 
@@ -135,10 +144,15 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
                                   std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer) {
     SceneLatents out;
     // (Non-finite scene points take the network's path, which reports them.)
-    const bool fold = fold_prior && !torch::GradMode::is_enabled() && decoder->at_prior() && torch::isfinite(scene_points).all().item<bool>();
-    // Folded without a directional head, no input is read: the traced inputs are not traced.
+    // fold: the body is silent (𝓦_out zero), so the irradiance decoder's output does not depend on
+    // the latents; at_prior: nor on the skip's input, so nothing traced is read either.
+    const bool fold = fold_prior && !torch::GradMode::is_enabled() && decoder->body_silent() && torch::isfinite(scene_points).all().item<bool>();
+    const bool at_prior = fold && decoder->skip_silent();
+    // Folded at the prior without a directional head, no input is read: the traced inputs are not
+    // traced. A silent body with a skip reads the regather (traced), not the latents.
     out.norm = frame ? *frame
-                     : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion), fold && !directional ? PointTracer{} : tracer);
+                     : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion), at_prior && !directional ? PointTracer{} : tracer,
+                                   /*point_inputs=*/!fold || directional);
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     if (cfg.decoder.level_points > 0) {
@@ -240,11 +254,22 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
     using clock = std::chrono::steady_clock;
     PredictTimings local;
     auto t = clock::now();
-    if (fold_prior && decoder->at_prior()) {
-        // z = softplus(0) at every query (fold_prior in the header): only the prior is gathered.
+    if (fold_prior && decoder->body_silent()) {
+        // 𝓦_out is zero (fold_prior in the header): z = softplus(skip ⊙ ln(R / Ê)) — at the prior
+        // softplus(0), and only the prior is gathered; with a skip, the prior and the regather.
+        const bool skip = !decoder->skip_silent();
         std::vector<torch::Tensor> parts;
-        for (int64_t s = 0; s < query_points.size(0); s += chunk)
-            parts.push_back(prior_irradiance(query_points.slice(0, s, std::min(query_points.size(0), s + chunk)), latents.norm));
+        for (int64_t s = 0; s < query_points.size(0); s += chunk) {
+            const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
+            if (!skip) {
+                parts.push_back(prior_irradiance(qp, latents.norm));
+                continue;
+            }
+            auto scale = output_scale(qp.to(latents.norm.output.device()), latents.norm);   // [n, 3], or [3] for the flat prior
+            if (scale.dim() == 1) scale = scale.expand({qp.size(0), 3});
+            const auto x = traced_query_features(regathered_scale(qp, latents.norm), scale);
+            parts.push_back(irradiance_from_z(torch::softplus(decoder->skip * x), scale));
+        }
         local.decode += seconds_since(t);
         if (timings) timings->decode += local.decode;
         return parts.empty() ? torch::zeros({0, 3}) : torch::cat(parts, 0);

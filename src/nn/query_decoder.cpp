@@ -48,12 +48,19 @@ void QueryDecoderImpl::start_at_prior() {
     for (auto &t : output_parameters()) t.zero_();
 }
 
-bool QueryDecoderImpl::at_prior() const {
+bool QueryDecoderImpl::body_silent() const {
     const auto *last = out->ptr(out->size() - 1)->as<torch::nn::LinearImpl>();
     if (last == nullptr) return false;
     torch::NoGradGuard no_grad;
-    return !last->weight.any().item<bool>() && !last->bias.any().item<bool>() && !(skip.defined() && skip.any().item<bool>());
+    return !last->weight.any().item<bool>() && !last->bias.any().item<bool>();
 }
+
+bool QueryDecoderImpl::skip_silent() const {
+    torch::NoGradGuard no_grad;
+    return !(skip.defined() && skip.any().item<bool>());
+}
+
+bool QueryDecoderImpl::at_prior() const { return body_silent() && skip_silent(); }
 
 torch::Tensor QueryDecoderImpl::output(const torch::Tensor &h, const torch::Tensor &query) {
     auto u = out->forward(h);   // [N, 3]

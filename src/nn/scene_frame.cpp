@@ -126,7 +126,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_
 // the FPS centres; node i's exitance becomes ρ_i ⊙ (E_dir + E⁺)_i as traced, and the prior's own
 // gather (its visibility, tree and near field) carries it to every scene point once more.
 void trace_and_regather(const float *sp, size_t n_points, const PointGroups &groups, bool every_point, const PointTracer &tracer,
-                        SceneFrame &f) {
+                        bool point_inputs, SceneFrame &f) {
     std::vector<Vec3f> direct(n_points), indirect(n_points);
     tracer(sp, n_points, direct.data(), indirect.data());
     for (size_t i = 0; i < n_points; ++i)
@@ -143,16 +143,19 @@ void trace_and_regather(const float *sp, size_t n_points, const PointGroups &gro
     }
     if (regather->tree) regather->tree_sums = std::make_shared<const PriorTree::Sums>(regather->tree->sums(regather->exitance));
     // Floored as the prior's own inputs are (prior_scale_normalized): 10⁻³ of the flat level.
-    const std::vector<float> rows = normalized_points(sp, n_points, f);
-    f.regathered.resize(n_points);
-    prior_scale_normalized(regather.get(), f.output, rows.data(), 12, n_points, f.regathered.data());
+    if (point_inputs) {
+        const std::vector<float> rows = normalized_points(sp, n_points, f);
+        f.regathered.resize(n_points);
+        prior_scale_normalized(regather.get(), f.output, rows.data(), 12, n_points, f.regathered.data());
+    }
     f.traced = std::move(indirect);
     f.regather = std::move(regather);
 }
 }  // namespace
 
 SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
-                             const Vec3f *emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer) {
+                             const Vec3f *emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer,
+                             bool point_inputs) {
     if (n_points == 0) LTM_THROW("scene points: none");
     for (size_t i = 0; i < n_points * 12; ++i)
         if (!std::isfinite(sp[i])) LTM_THROW("scene points contain NaN or Inf");
@@ -206,7 +209,7 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
     if (tracer) {
         if (!f.transport) LTM_THROW("traced inputs need physics.prior_field \"transport\" (the prior they regather)");
         const auto t = std::chrono::steady_clock::now();
-        trace_and_regather(sp, n_points, groups, nodes_are_points, tracer, f);
+        trace_and_regather(sp, n_points, groups, nodes_are_points, tracer, point_inputs, f);
         f.trace_seconds = seconds_since(t);
     }
     return f;

@@ -101,7 +101,9 @@ std::optional<FrameCacheEntry> FrameCache::load(const std::string &path, int64_t
                         (e.centers.numel() == 0 || (e.centers.min().item<int64_t>() >= 0 && e.centers.max().item<int64_t>() < m)) &&
                         (e.groups.numel() == 0 || (e.groups.min().item<int64_t>() >= 0 && e.groups.max().item<int64_t>() < m)) &&
                         (!e.point_prior.defined() || (e.point_prior.dim() == 2 && e.point_prior.size(0) == m && e.point_prior.size(1) == 3)) &&
-                        (!e.point_traced.defined() || (e.point_traced.dim() == 2 && e.point_traced.size(0) == m && e.point_traced.size(1) == 6)) &&
+                        (!e.point_traced.defined() || (e.point_traced.dim() == 2 && e.point_traced.size(0) == m && e.point_traced.size(1) == 6 &&
+                                                       e.point_traced.scalar_type() == torch::kFloat32)) &&
+                        (!e.query_regathered.defined() || e.query_regathered.scalar_type() == torch::kFloat32) &&
                         e.query_scale.dim() >= 1 && e.query_scale.size(-1) == 3;
         if (!ok) LTM_THROW(path, ": tensor types or shapes do not fit together");
         if (traced && !e.point_traced.defined()) LTM_THROW(path, ": no traced inputs, and the model has them");

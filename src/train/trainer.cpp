@@ -221,6 +221,13 @@ void Trainer::init_weights(const std::string &path) {
             log_info(path, ": no traced queries; ", name, " widened by 3 zero columns, decoder.skip zero (the model starts as these weights)");
         }
     }
+    if (w->directional && !m_model->directional) {
+        // Fine-tuning into a config without the head (traced-input models, whose draws cannot train
+        // one): the irradiance model is the same; the head's tensors stay behind.
+        for (auto it = tensors.begin(); it != tensors.end();)
+            it = it->first.rfind("directional.", 0) == 0 ? tensors.erase(it) : std::next(it);
+        log_info(path, ": the model config has no directional head; the file's is left out");
+    }
     if (m_cfg.head == "directional" && !w->directional) {
         // A new head on trained irradiance weights: it keeps its fresh (uniform-radiance) start.
         for (const auto &p : m_model->directional->named_parameters()) tensors["directional." + p.key()] = p.value().detach().clone();

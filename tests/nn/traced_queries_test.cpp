@@ -53,6 +53,13 @@ TEST(TracedQueries, ConfigNeedsTracedInputsAndStaysOutOfOlderJson) {
     ASSERT_TRUE(m->decoder->skip.defined());
     EXPECT_EQ(m->decoder->named_parameters().find("skip")->sizes(), (c10::IntArrayRef{3}));
     EXPECT_FALSE(LtmModel(plain)->decoder->skip.defined());
+    // Built in code, not read from JSON: the model refuses the same combinations in one line.
+    ModelConfig untraced_code = f.cfg;
+    untraced_code.traced_inputs = 0;
+    EXPECT_THROW(LtmModel{untraced_code}, Error);
+    ModelConfig held_code = f.cfg;
+    held_code.decoder.level_points = 64;
+    EXPECT_THROW(LtmModel{held_code}, Error);
 }
 
 // softplus(ln g) = ln(1 + g): with 𝓦_out zero and skip 1, E⁺ = Ê · g = R at every query, through
@@ -72,16 +79,51 @@ TEST(TracedQueries, SkipOneIsTheRegatheredPriorAndSkipZeroThePrior) {
     ASSERT_TRUE(lat.norm.regather);
     const auto r = regathered_scale(f.qp, lat.norm), prior = prior_irradiance(f.qp, lat.norm);
     EXPECT_GT(test::relative_error(r, prior), 0.01) << "the traced light differs from the prior's (2 % here; the check below is to 1e-5)";
-    const auto fused = m->predict_irradiance(f.qp, lat);
+    // Through the network (not folded: the silent body's fold has its own test below).
+    m->fold_prior = false;
+    const SceneLatents net = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    const auto fused = m->predict_irradiance(f.qp, net);
     EXPECT_LT(test::relative_error(fused, r), 1e-5);
     m->fused_inference = false;
-    EXPECT_LT(test::relative_error(m->predict_irradiance(f.qp, lat), r), 1e-5);
+    EXPECT_LT(test::relative_error(m->predict_irradiance(f.qp, net), r), 1e-5);
     m->fused_inference = true;
+    m->fold_prior = true;
+    EXPECT_LT(test::relative_error(m->predict_irradiance(f.qp, lat), r), 1e-5) << "folded";
     set_skip(m, 0.f);
     EXPECT_TRUE(m->decoder->at_prior());
     const SceneLatents folded = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
     EXPECT_FALSE(folded.norm.regather) << "a model at its prior does not trace";
     EXPECT_TRUE(torch::equal(m->predict_irradiance(f.qp, folded), prior_irradiance(f.qp, folded.norm)));
+}
+
+// A silent body (𝓦_out zero) with a learned skip folds: encode() traces the scene for R but runs
+// neither the embedding nor PTv3 (zero features), and predict_irradiance() gives what the whole
+// network gives — a random body before the zero output layer, through the fused kernel and libtorch.
+TEST(TracedQueries, ASilentBodyWithASkipFoldsToTheSameNumbers) {
+    Fixture f;
+    LtmModel m = random_model(f.cfg, 7);
+    {
+        torch::NoGradGuard g;
+        for (auto &t : m->decoder->output_parameters()) t.zero_();
+        m->decoder->skip.copy_(torch::tensor({0.75f, 0.6f, 0.9f}));
+    }
+    ASSERT_TRUE(m->decoder->body_silent());
+    ASSERT_FALSE(m->decoder->at_prior());
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const auto geometry = m->scene_geometry(f.sp);
+    const SceneLatents folded = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    ASSERT_TRUE(folded.norm.regather) << "the skip reads the regather: the scene is traced";
+    EXPECT_FALSE(folded.features.any().item<bool>()) << "the encoder did not run";
+    EXPECT_FALSE(folded.norm.point_traced.defined() || folded.norm.point_prior.defined()) << "nor were its inputs gathered";
+    const auto e = m->predict_irradiance(f.qp, folded);
+    m->fold_prior = false;
+    const SceneLatents net = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    ASSERT_TRUE(net.features.any().item<bool>());
+    EXPECT_LT(test::relative_error(e, m->predict_irradiance(f.qp, net)), 1e-5) << "fused";
+    m->fused_inference = false;
+    EXPECT_LT(test::relative_error(e, m->predict_irradiance(f.qp, net)), 1e-5) << "libtorch";
+    EXPECT_GT(test::relative_error(e, prior_irradiance(f.qp, net.norm)), 1e-3) << "the skip moves the output";
 }
 
 // A random network with a random skip: the fused kernel and the libtorch modules give the same E⁺,

@@ -719,3 +719,18 @@ TEST(Trainer, TracedQueriesStartAsTheWeightsTheyWidenAndTheSkipLearnsAtItsScale)
         else EXPECT_GT(moved, 2.5e-3) << "the skip learns at lr × skip_lr_scale";
     }
 }
+
+// --init from weights with a directional head into a config without one (the traced presets, whose
+// draws cannot train a head): the head's tensors are left out and the irradiance model is the same.
+// Into a config with a head the file lacks, nothing changes (the head starts fresh).
+TEST(Trainer, InitIntoAConfigWithoutTheHeadLeavesTheHeadOut) {
+    test::TempDir dir;
+    const ModelConfig without = tiny_with_prior_inputs();
+    ModelConfig with = without;
+    with.directional = DirectionalConfig{};
+    const double before = save_perturbed_weights(with, dir);
+    Trainer b(without, small_train(0), {dataset_dir()}, dir.path("b"));
+    ASSERT_FALSE(b.model()->directional);
+    b.init_weights(dir.path("w.safetensors"));
+    EXPECT_NEAR(b.validate(), before, 1e-6 * std::abs(before)) << "the irradiance model is the file's";
+}

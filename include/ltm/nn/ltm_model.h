@@ -81,9 +81,11 @@ struct SceneLatents {
 /// Throws ltm::Error on non-finite points, negative emission or a scene of zero extent.
 /// occlusion: the scene's meshes for physics.prior_rays (transport/segment_occlusion.h, in the
 /// scene's own frame); required with prior_rays, unused without.
+/// point_inputs false: no point_traced (solve_scene_frame's point_inputs).
 SceneNormalization scene_normalization(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                        const PhysicsConfig &physics, const torch::Tensor &emission_scale = {},
-                                       std::shared_ptr<const SegmentOcclusion> occlusion = {}, const PointTracer &tracer = {});
+                                       std::shared_ptr<const SegmentOcclusion> occlusion = {}, const PointTracer &tracer = {},
+                                       bool point_inputs = true);
 /// Model inputs in the normalised frame: (p − centre)/ℓ, n, albedo, log1p(e / S).
 ///   scene_points [M, 12] -> [M, 12]
 torch::Tensor normalize_scene_points(const torch::Tensor &scene_points, const SceneNormalization &norm);
@@ -105,9 +107,13 @@ struct LtmModelImpl : torch::nn::Module {
     /// prior_inputs the prior at every scene point (point_prior).
     ///   scene_points [M, 12] raw, emission_scale [3] (optional) -> SceneNormalization
     /// With traced_inputs the scene's tracer is required (the traced inputs, point_traced).
+    /// point_inputs false: what the decoder alone reads (the frame, the transport, the regather),
+    /// without the encoder's per-point inputs (point_prior, point_traced): two gathers of the M
+    /// points less (encode() of a silent body).
     SceneNormalization scene_frame(const torch::Tensor &scene_points, const SceneGeometry &geometry,
                                    const torch::Tensor &emission_scale = {},
-                                   std::shared_ptr<const SegmentOcclusion> occlusion = {}, const PointTracer &tracer = {}) const;
+                                   std::shared_ptr<const SegmentOcclusion> occlusion = {}, const PointTracer &tracer = {},
+                                   bool point_inputs = true) const;
     //   scene_points [M, 12] raw, emission_scale [3] (S = Φ/A, optional) -> latents at m anchors
     /// frame: scene_frame() computed beforehand for these very points, so the prior is not solved
     /// again (the trainer's cache: it solves once per scene and moves the frame with its
@@ -166,12 +172,15 @@ struct LtmModelImpl : torch::nn::Module {
     QueryDecoder decoder{nullptr};
     DirectionalDecoder directional{nullptr};   ///< null unless cfg.directional
     bool fused_inference = true;   ///< predict_irradiance on CPU uses FusedDecoder (false: libtorch modules)
-    /// Constant folding of a model that is its prior (decoder->at_prior(): the output layer and the
-    /// skip exactly zero, as --start-at-prior leaves them): without autograd, encode() skips the embedding and encoder (features
-    /// = zeros without a directional head; with one, deferred until the head asks: SceneLatents::Deferred)
-    /// and predict_irradiance() skips kNN and the decoder,
-    /// whose output is then softplus(0) whatever its input. Same numbers, ~1.5 s less per 512²
-    /// frame (docs/performance.md). false: always run the network.
+    /// Constant folding of a silent body (decoder->body_silent(): 𝓦_out's last Linear exactly zero,
+    /// as --start-at-prior leaves it): without autograd, encode() skips the embedding and encoder
+    /// (features = zeros without a directional head; with one, deferred until the head asks:
+    /// SceneLatents::Deferred) and predict_irradiance() skips kNN and the decoder, whose output is
+    /// then softplus(skip ⊙ ln(R / Ê)) whatever the latents. At the prior (no skip, or a zero one:
+    /// decoder->at_prior()) that is softplus(0), and nothing is traced; with a skip (the regathered
+    /// prior through its learned weights) the scene is traced for R, and PTv3, the encoder's per-point
+    /// inputs and the attention are saved. Same numbers as the network path; ~1.5 s less per 512² frame at the prior, 2 s
+    /// with a skip (docs/performance.md, session 38). false: always run the network.
     bool fold_prior = true;
 };
 TORCH_MODULE(LtmModel);

@@ -59,6 +59,11 @@ struct QueryDecoderImpl : torch::nn::Module {
     /// Is 𝓦_out's last Linear exactly zero (weight and bias), and the skip if there is one? Then z = softplus(0) for every query,
     /// whatever the latents: the model is its prior (LtmModelImpl folds that constant).
     bool at_prior() const;
+    /// Is 𝓦_out's last Linear exactly zero (weight and bias)? Then z = softplus(skip ⊙ x) whatever the
+    /// latents and the attention: the body is silent, and only the skip (if any) moves the output.
+    bool body_silent() const;
+    /// Is there no skip, or is it exactly zero?
+    bool skip_silent() const;
     torch::nn::Sequential embed{nullptr}, out{nullptr};            // 𝓗 (eq. 9) and 𝓦_out (eq. 14)
     torch::nn::Sequential pos_mlp{nullptr};                        // γ(Δp) (eq. 10): Linear → ReLU → Linear
     CrossAttentionBlocks blocks;                                   // attention decoder only

@@ -64,9 +64,12 @@ struct SceneFrame {
 /// the scene's meshes for physics.prior_rays (required then). Throws ltm::Error on non-finite points,
 /// negative emission, a bad emission scale or a scene of zero extent. tracer (optional): also the
 /// traced and regathered irradiance at every scene point (needs physics.prior_field "transport").
+/// point_inputs false: the regather (for the queries) without its value at every scene point —
+/// `regathered` stays empty: a model whose encoder does not run reads only the queries' (one gather of
+/// the M points less).
 SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
                              const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {},
-                             const PointTracer &tracer = {});
+                             const PointTracer &tracer = {}, bool point_inputs = true);
 
 /// The prior that the model's output multiplies, at query rows already in the normalised frame
 /// ((p − centre)/ℓ, n, albedo: `stride` floats a row): the transport prior's gather floored at
