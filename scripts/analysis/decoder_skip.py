@@ -14,6 +14,7 @@ network must beat to show what it adds beyond the skip (docs/results.md, session
 """
 import argparse
 import json
+import os
 import struct
 import sys
 
@@ -41,6 +42,8 @@ def main():
         return
     if not a.out:
         sys.exit("--set and --silence-body need -o OUT (the input is left as it is)")
+    if os.path.abspath(a.out) == os.path.abspath(a.weights):
+        sys.exit("-o names the input: write the copy elsewhere (the input is left as it is)")
     if a.set is not None:
         data[at:at + size] = struct.pack(fmt, a.set, a.set, a.set)
         print(a.out, "decoder.skip", f"{a.set:.4f} ×3")

@@ -153,6 +153,8 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     out.norm = frame ? *frame
                      : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion), at_prior && !directional ? PointTracer{} : tracer,
                                    /*point_inputs=*/!fold || directional);
+    if (fold && !at_prior && !out.norm.regather)
+        LTM_THROW("model '", cfg.name, "' has traced queries: encoding a scene needs its path tracer (the regathered prior)");
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     if (cfg.decoder.level_points > 0) {

@@ -124,6 +124,13 @@ TEST(TracedQueries, ASilentBodyWithASkipFoldsToTheSameNumbers) {
     m->fused_inference = false;
     EXPECT_LT(test::relative_error(e, m->predict_irradiance(f.qp, net)), 1e-5) << "libtorch";
     EXPECT_GT(test::relative_error(e, prior_irradiance(f.qp, net.norm)), 1e-3) << "the skip moves the output";
+    m->fold_prior = true;
+    try {
+        m->encode(f.sp, geometry);
+        ADD_FAILURE() << "folded a traced-queries model without its tracer";
+    } catch (const Error &err) {
+        EXPECT_NE(std::string(err.what()).find("path tracer"), std::string::npos) << err.what();
+    }
 }
 
 // A random network with a random skip: the fused kernel and the libtorch modules give the same E⁺,

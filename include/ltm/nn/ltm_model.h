@@ -63,11 +63,11 @@ struct SceneLatents {
     /// decoder.level_points = K > 0: the K first FPS centres as raw queries [K, 9] and the prior
     /// there [K, 3], where the model holds its prior's level (LtmModelImpl::level_factor).
     torch::Tensor level_queries, level_scale;
-    /// The encoder's inputs when its run is deferred: a model at its prior with a directional head
-    /// (fold_prior), whose features only the head reads — and most frames never call it (a scene
+    /// The encoder's inputs when its run is deferred: a model with a silent body (at its prior, or
+    /// with only the traced-queries skip) and a directional head (fold_prior), whose features only the head reads — and most frames never call it (a scene
     /// without conductors, `--glossy trace`). Shared, so copies of the latents compute them once.
     struct Deferred {
-        torch::Tensor x, centers, groups;   ///< [M, 12 or 15] normalised points, the FPS centres and groups
+        torch::Tensor x, centers, groups;   ///< [M, 12, 15 or 21] normalised points (and inputs), the FPS centres and groups
         torch::Tensor features;             ///< [m, C] once computed
         std::mutex mutex;
     };
