@@ -722,7 +722,6 @@ TEST(Trainer, TracedQueriesStartAsTheWeightsTheyWidenAndTheSkipLearnsAtItsScale)
 
 // --init from weights with a directional head into a config without one (the traced presets, whose
 // draws cannot train a head): the head's tensors are left out and the irradiance model is the same.
-// Into a config with a head the file lacks, nothing changes (the head starts fresh).
 TEST(Trainer, InitIntoAConfigWithoutTheHeadLeavesTheHeadOut) {
     test::TempDir dir;
     const ModelConfig without = tiny_with_prior_inputs();
