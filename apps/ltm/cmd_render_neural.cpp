@@ -2,6 +2,7 @@
 // shipped model: its prior) render without libtorch (infer/prior_model.h), in any build; an active
 // network, or its directional head, through the tensor model (libtorch builds).
 #include <chrono>
+#include <string>
 
 #include "cli.h"
 #include "command_model.h"
@@ -69,9 +70,16 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     write_png(a.prefix + ".irradiance.png", r.image.irradiance, tonemap_scale(r.image.irradiance));
     const double write_s = seconds_since(t);
     const auto &rt = r.timings;
+    // What inference ran: the network; a silent body folded to its skip (the prior and its regather,
+    // no encoder, no attention: LtmModelImpl::fold_prior); or the prior alone.
+    std::string network = m.network ? "active" : "silenced: the prior alone, without libtorch";
+#if LTM_WITH_TORCH
+    if (m.tensor && m.tensor->model->fold_prior && m.tensor->model->decoder->body_silent() && !m.tensor->model->decoder->skip_silent())
+        network = "folded: the prior and its regather through the skip, without the encoder or attention";
+#endif
     OrderedJson j = {{"scene", a.scene},
                      {"model", a.model},
-                     {"network", m.network ? "active" : "silenced: the prior alone, without libtorch"},
+                     {"network", network},
                      {"width", cam.width},
                      {"height", cam.height},
                      {"queries", r.n_queries},

@@ -15,7 +15,7 @@ for r in $(seq "$ROUNDS"); do
       -o "$out/r$i.png" > /dev/null 2>&1
     t1=$(date +%s.%N)
     printf '%s round %s wall %.2f s  %s\n' "$m" "$r" "$(echo "$t1 - $t0" | bc)" \
-      "$(python3 -c 'import json,sys; t=json.load(open(sys.argv[1])); print(" ".join(f"{k[:-2]} {v:.2f}" for k,v in t.items() if isinstance(v,(int,float))))' "$out/r$i.timings.json" 2>/dev/null || echo)"
+      "$(python3 -c 'import json,sys; t=json.load(open(sys.argv[1]))["timings"]; print(" ".join(f"{k[:-2]} {v:.2f}" for k,v in t.items()))' "$out/r$i.timings.json" 2>/dev/null || echo)"
   done
 done
 rm -rf "$out"

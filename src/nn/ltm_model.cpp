@@ -13,6 +13,8 @@
 #include "ltm/points/point_set.h"
 
 #include <optional>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace ltm {
@@ -34,6 +36,12 @@ torch::Tensor gathered_normalized(const torch::Tensor &q, const TransportPrior &
 torch::Tensor output_scale_normalized(const torch::Tensor &q, const SceneNormalization &norm) {
     if (!norm.transport) return norm.output;
     return gathered_normalized(q, *norm.transport, norm);
+}
+
+// A traced-queries model decodes against the frame's regather: named here, not by a missing tensor later.
+void require_regather(const ModelConfig &cfg, const SceneNormalization &norm) {
+    if (!norm.regather)
+        LTM_THROW("model '", cfg.name, "' has traced queries: decoding needs the regathered prior (encode the scene with its path tracer)");
 }
 
 torch::Tensor vec3_tensor(Vec3f v, const torch::TensorOptions &opts) { return torch::tensor({v.x, v.y, v.z}).to(opts); }
@@ -219,8 +227,7 @@ torch::Tensor LtmModelImpl::query_inputs(const torch::Tensor &query_points, cons
     TORCH_CHECK(s.dim() == 2 && s.size(0) == q.size(0) && s.size(1) == 3, "query_inputs: scale must be [N, 3] for N = ",
                 q.size(0), ", got ", s.sizes());
     if (!cfg.traced_queries) return torch::cat({q, prior_features(s, norm)}, 1);   // [N, 12]
-    if (!regathered.defined() && !norm.regather)
-        LTM_THROW("model '", cfg.name, "' has traced queries: decoding needs the regathered prior (encode the scene with its path tracer)");
+    if (!regathered.defined()) require_regather(cfg, norm);
     const auto r = regathered.defined() ? regathered : gathered_normalized(q, *norm.regather, norm);
     TORCH_CHECK(r.dim() == 2 && r.size(0) == q.size(0) && r.size(1) == 3, "query_inputs: regathered must be [N, 3] for N = ",
                 q.size(0), ", got ", r.sizes());
@@ -267,9 +274,9 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
                 parts.push_back(prior_irradiance(qp, latents.norm));
                 continue;
             }
-            auto scale = output_scale(qp.to(latents.norm.output.device()), latents.norm);   // [n, 3], or [3] for the flat prior
-            if (scale.dim() == 1) scale = scale.expand({qp.size(0), 3});
-            const auto x = traced_query_features(regathered_scale(qp, latents.norm), scale);
+            // One walk of the prior's rows for both (gather_transport_prior_pair).
+            const auto [scale, regathered] = prior_and_regathered(qp, latents.norm);
+            const auto x = traced_query_features(regathered, scale);
             parts.push_back(irradiance_from_z(torch::softplus(decoder->skip * x), scale));
         }
         local.decode += seconds_since(t);
@@ -285,15 +292,20 @@ torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points
         fused.emplace(*decoder);   // rebuilt per call: ~0.1 M floats, negligible next to decoding
         fused->prepare(feats);
     }
+    if (cfg.traced_queries) require_regather(cfg, latents.norm);
     std::vector<torch::Tensor> parts;
     for (int64_t s = 0; s < query_points.size(0); s += chunk) {
         const auto qp = query_points.slice(0, s, std::min(query_points.size(0), s + chunk));
-        const auto scale = output_scale(qp, latents.norm);   // the prior at the queries: input and output frame
+        // The prior at the queries (input and output frame) and, for traced queries, the regather:
+        // one walk of the prior's rows for both.
+        torch::Tensor scale, regathered;
+        if (cfg.traced_queries) std::tie(scale, regathered) = prior_and_regathered(qp, latents.norm);
+        else scale = output_scale(qp, latents.norm);
         if (!fused) {
-            parts.push_back(held(irradiance_from_z(decode_network(qp, latents, scale), scale)));
+            parts.push_back(held(irradiance_from_z(decode_network(qp, latents, scale, regathered), scale)));
             continue;
         }
-        const auto q = query_inputs(qp, latents.norm, scale);
+        const auto q = query_inputs(qp, latents.norm, scale, regathered);
         const int64_t kappa = std::min<int64_t>(cfg.decoder.n_neighbors, latents.anchors.size(0));
         local.decode += seconds_since(t);
         t = clock::now();
@@ -360,6 +372,19 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 torch::Tensor regathered_scale(const torch::Tensor &query_points, const SceneNormalization &norm) {
     if (!norm.regather) LTM_THROW("the scene's frame has no regathered prior (it was made without the scene's path tracer)");
     return gathered_normalized(normalize_query_points(query_points.to(norm.output.device()), norm), *norm.regather, norm);
+}
+
+std::pair<torch::Tensor, torch::Tensor> prior_and_regathered(const torch::Tensor &query_points, const SceneNormalization &norm) {
+    if (!norm.transport) LTM_THROW("the scene's frame has no transport prior to regather (physics.prior_field \"transport\")");
+    if (!norm.regather) LTM_THROW("the scene's frame has no regathered prior (it was made without the scene's path tracer)");
+    torch::NoGradGuard no_grad;
+    const auto q = normalize_query_points(query_points.to(norm.output.device()), norm).detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    const auto o = norm.output.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    auto scale = torch::empty({q.size(0), 3}, torch::kFloat32), regathered = torch::empty({q.size(0), 3}, torch::kFloat32);
+    prior_scale_pair_normalized(*norm.transport, *norm.regather, Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>()),
+                                q.data_ptr<float>(), 9, size_t(q.size(0)), reinterpret_cast<Vec3f *>(scale.data_ptr<float>()),
+                                reinterpret_cast<Vec3f *>(regathered.data_ptr<float>()));
+    return {scale.to(norm.output.device()), regathered.to(norm.output.device())};
 }
 
 torch::Tensor traced_query_features(const torch::Tensor &regathered, const torch::Tensor &scale) {

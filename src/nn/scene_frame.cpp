@@ -225,6 +225,13 @@ void prior_scale_normalized(const TransportPrior *transport, Vec3f output, const
     for (size_t i = 0; i < n; ++i) out[i] = max(out[i], floor);
 }
 
+void prior_scale_pair_normalized(const TransportPrior &transport, const TransportPrior &regather, Vec3f output, const float *rows,
+                                 size_t stride, size_t n, Vec3f *out, Vec3f *out_regather) {
+    gather_transport_prior_pair(transport, regather, rows, rows + 3, stride, n, &out[0].x, &out_regather[0].x);
+    const Vec3f floor = 1e-3f * output;
+    for (size_t i = 0; i < n; ++i) out[i] = max(out[i], floor), out_regather[i] = max(out_regather[i], floor);
+}
+
 float prior_gain() {
     static const float gain = std::expm1(std::log1p(std::exp(0.f)));   // expm1(softplus(0)), in float
     return gain;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <tuple>
 
 #include "ltm/core/error.h"
 #include "ltm/core/file_util.h"
@@ -345,8 +346,8 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
             // traced_inputs: a few paths per scene point through the house (the draw's frame keeps them).
             c->frame = m_model->scene_frame(c->scene_points, c->geometry, c->emission_scale, rays ? rays->occlusion : nullptr,
                                             rays ? traced_inputs_tracer(m_model_cfg, *rays->accel) : PointTracer{});
-            c->query_scale = output_scale(c->query_points, c->frame);
-            if (m_model_cfg.traced_queries) c->query_regathered = regathered_scale(c->query_points, c->frame);
+            if (m_model_cfg.traced_queries) std::tie(c->query_scale, c->query_regathered) = prior_and_regathered(c->query_points, c->frame);
+            else c->query_scale = output_scale(c->query_points, c->frame);
             c->frame.transport.reset(), c->frame.regather.reset();   // every value needed is kept; the solve's memory is not
             if (cacheable) {
                 FrameCacheEntry e;

@@ -600,20 +600,25 @@ struct RowSink {
     }
 };
 // Sums the terms against values as they come (gather_group): the aggregates' and the exact nodes'
-// shares apart and then added, as apply() adds them, so the answer is apply()'s to the bit.
-struct SumSink {
-    const PriorTree::Sums &x;
-    double den[PriorTree::k_group], agg[PriorTree::k_group][3], ex[PriorTree::k_group][3];
+// shares apart and then added, as apply() adds them, so the answer is apply()'s to the bit. N value
+// sets at once (gather_group2: the prior's exitance and its regather's): each set's sums are the
+// same operations in the same order as it alone would get.
+template <int N> struct SumSink {
+    const PriorTree::Sums *x[N];
+    double den[PriorTree::k_group] = {}, agg[N][PriorTree::k_group][3] = {}, ex[N][PriorTree::k_group][3] = {};
     bool aggregate(int l, uint32_t t, double d, Vec3f along, Vec3f grad) {
         den[l] += d;
-        const Vec3f *dipole = &x.dipole[size_t(t) * 3], *moment = &x.moment[size_t(t) * 3];
-        for (int c = 0; c < 3; ++c) agg[l][c] += double(dot(along, dipole[c])) + double(dot(grad, moment[c]));
+        for (int v = 0; v < N; ++v) {
+            const Vec3f *dipole = &x[v]->dipole[size_t(t) * 3], *moment = &x[v]->moment[size_t(t) * 3];
+            for (int c = 0; c < 3; ++c) agg[v][l][c] += double(dot(along, dipole[c])) + double(dot(grad, moment[c]));
+        }
         return true;
     }
     void exact(int l, uint32_t place, double wt) {
         den[l] += wt;
         const double coef = double(float(wt));
-        for (int c = 0; c < 3; ++c) ex[l][c] += coef * double(x.value[place][c]);
+        for (int v = 0; v < N; ++v)
+            for (int c = 0; c < 3; ++c) ex[v][l][c] += coef * double(x[v]->value[place][c]);
     }
 };
 }  // namespace
@@ -649,26 +654,42 @@ void PriorTree::record_group(const Receiver *receivers, int count, Row *rows, Sc
     traverse(receivers, count, scratch.stack, terms);
 }
 
+template <class Sink> void PriorTree::walk_sums(const Receiver *receivers, int count, Sink &sink, Scratch &scratch) const {
+    if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
+    if (count == 0) return;
+    const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
+    if (m_rays) {
+        RayFilter<Sink> filter{*this, sink, receivers, ray_lift(), nullptr, {}, scratch.shared};
+        Terms<RayFilter<Sink>> terms{*this, filter, m_side, m_reg, near_reach, scale};
+        traverse(receivers, count, scratch.stack, terms);
+    } else {
+        Terms<Sink> terms{*this, sink, m_side, m_reg, near_reach, scale};
+        traverse(receivers, count, scratch.stack, terms);
+    }
+}
+
 LTM_SIMD_CLONES
 void PriorTree::gather_group(const Receiver *receivers, int count, const Sums &x, double *den, double (*num)[3],
                              Scratch &scratch, double (*far)[3]) const {
-    if (count < 0 || count > k_group) LTM_THROW("prior tree: a group of ", count, " receivers (0 to ", k_group, ")");
-    if (count == 0) return;
-    SumSink sink{x, {}, {}, {}};
-    const float near_reach = 2.5f * m_side, scale = float(k_pi) / (m_side * m_side);
-    if (m_rays) {
-        RayFilter<SumSink> filter{*this, sink, receivers, ray_lift(), nullptr, {}, scratch.shared};
-        Terms<RayFilter<SumSink>> terms{*this, filter, m_side, m_reg, near_reach, scale};
-        traverse(receivers, count, scratch.stack, terms);
-    } else {
-        Terms<SumSink> terms{*this, sink, m_side, m_reg, near_reach, scale};
-        traverse(receivers, count, scratch.stack, terms);
-    }
+    SumSink<1> sink{{&x}};
+    walk_sums(receivers, count, sink, scratch);
     for (int l = 0; l < count; ++l) {
         den[l] = sink.den[l];
-        for (int c = 0; c < 3; ++c) num[l][c] = sink.agg[l][c] + sink.ex[l][c];
+        for (int c = 0; c < 3; ++c) num[l][c] = sink.agg[0][l][c] + sink.ex[0][l][c];
         if (far)
-            for (int c = 0; c < 3; ++c) far[l][c] = sink.agg[l][c];
+            for (int c = 0; c < 3; ++c) far[l][c] = sink.agg[0][l][c];
+    }
+}
+
+LTM_SIMD_CLONES
+void PriorTree::gather_group2(const Receiver *receivers, int count, const Sums &x, const Sums &x2, double *den, double (*num)[3],
+                              double (*num2)[3], Scratch &scratch) const {
+    SumSink<2> sink{{&x, &x2}};
+    walk_sums(receivers, count, sink, scratch);
+    for (int l = 0; l < count; ++l) {
+        den[l] = sink.den[l];
+        for (int c = 0; c < 3; ++c) num[l][c] = sink.agg[0][l][c] + sink.ex[0][l][c];
+        for (int c = 0; c < 3; ++c) num2[l][c] = sink.agg[1][l][c] + sink.ex[1][l][c];
     }
 }
 

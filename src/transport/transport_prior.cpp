@@ -511,15 +511,20 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     return out;
 }
 
-void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
-                            size_t n, float *out, float *far) {
+namespace {
+// gather_transport_prior, and with `also` (a copy of prior with another exitance) the same rows
+// summed against its exitance too, into also_out: one walk, one set of rays.
+void gather_rows(const TransportPrior &prior, const TransportPrior *also, const float *position, const float *normal, size_t stride,
+                 size_t n, float *out, float *far, float *also_out) {
     if (stride < 3) LTM_THROW("transport prior: row stride ", stride, " < 3");
     if (far && !prior.tree) LTM_THROW("transport prior: the far share needs the prior's tree (theta > 0)");
     const size_t m = prior.position.size();
     const ClusterVisibility &vis = prior.visibility;
     if (prior.tree) {   // through the cluster tree: far nodes as aggregates
-        std::shared_ptr<const PriorTree::Sums> held = prior.tree_sums;
-        if (!held) held = std::make_shared<const PriorTree::Sums>(prior.tree->sums(prior.exitance));
+        const auto sums_of = [](const TransportPrior &t) {
+            return t.tree_sums ? t.tree_sums : std::make_shared<const PriorTree::Sums>(t.tree->sums(t.exitance));
+        };
+        const std::shared_ptr<const PriorTree::Sums> held = sums_of(prior), held_also = also ? sums_of(*also) : nullptr;
         const PriorTree::Sums &sums = *held;
         // Neighbours that face alike walk the tree together (PriorTree::record_group): each
         // receiver's row is what it would be alone, so the order changes no bit of the answer —
@@ -553,8 +558,9 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                     closure[l] = rays ? (bv[l].view = {}, ray_closure[q]) : bv[l].set(vis, p, nq, nullptr);
                     rc[l] = {p, nq, bv[l].view};
                 }
-                double den[G], num[G][3], agg[G][3];
-                prior.tree->gather_group(rc, count, sums, den, num, scratch, far ? agg : nullptr);
+                double den[G], num[G][3], agg[G][3], num_also[G][3];
+                if (also) prior.tree->gather_group2(rc, count, sums, *held_also, den, num, num_also, scratch);
+                else prior.tree->gather_group(rc, count, sums, den, num, scratch, far ? agg : nullptr);
                 for (int l = 0; l < count; ++l) {
                     const size_t q = order[first + size_t(l)];
                     const auto value = [&](const double *sum, float *o) {   // closure · Σ / den, per channel
@@ -562,6 +568,7 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
                     };
                     value(num[l], out + q * 3);
                     if (far) value(agg[l], far + q * 3);
+                    if (also) value(num_also[l], also_out + q * 3);
                 }
             }
         });
@@ -570,9 +577,12 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
     // Nodes in cluster order: a receiver visits the runs of clusters it sees and skips the rest.
     const PlacedNodes nodes(prior.position, prior.normal, vis, prior.area, prior.patches);
     const ClusterOrder &co = nodes.co;
-    std::vector<float> ex[3];
+    std::vector<float> ex[3], ex_also[3];
     for (int c = 0; c < 3; ++c)
-        for (size_t j = 0; j < m; ++j) ex[c].push_back(prior.exitance[co.order[j]][c]);
+        for (size_t j = 0; j < m; ++j) {
+            ex[c].push_back(prior.exitance[co.order[j]][c]);
+            if (also) ex_also[c].push_back(also->exitance[co.order[j]][c]);
+        }
     parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
         ReceiverView view(co);
         std::vector<float> row(m);
@@ -582,17 +592,39 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
             view.set(vis, co, p, nq);
             // E⁺ = Σ_j v_j t_j ex_j / Σ_j v_j t_j over the nodes it sees (v_j its cluster's weight),
             // run by run in a fixed order: the same at any thread count.
-            double den = 0, num[3] = {0, 0, 0};
+            double den = 0, num[3] = {0, 0, 0}, num_also[3] = {0, 0, 0};
             float *r = row.data();
             nodes.row(view, p, nq, r);
             for (const auto &[lo, hi] : view.runs) {
                 den += sum8(r + lo, hi - lo);
                 for (int k = 0; k < 3; ++k) num[k] += dot8(r + lo, ex[k].data() + lo, hi - lo);
+                if (also)
+                    for (int k = 0; k < 3; ++k) num_also[k] += dot8(r + lo, ex_also[k].data() + lo, hi - lo);
             }
             float *o = out + size_t(q) * 3;
             for (int k = 0; k < 3; ++k) o[k] = den > 0 ? float(double(view.closure) * num[k] / den) : 0.f;
+            if (also) {
+                float *oa = also_out + size_t(q) * 3;
+                for (int k = 0; k < 3; ++k) oa[k] = den > 0 ? float(double(view.closure) * num_also[k] / den) : 0.f;
+            }
         }
     });
+}
+}  // namespace
+
+void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
+                            size_t n, float *out, float *far) {
+    gather_rows(prior, nullptr, position, normal, stride, n, out, far, nullptr);
+}
+
+void gather_transport_prior_pair(const TransportPrior &prior, const TransportPrior &also, const float *position, const float *normal,
+                                 size_t stride, size_t n, float *out, float *also_out) {
+    // The rows are prior's: `also` must be the same nodes, tree, near field and rays with another exitance.
+    if (also.tree != prior.tree || also.exitance.size() != prior.exitance.size() || also.position.size() != prior.position.size() ||
+        also.patches != prior.patches || also.rays.occlusion != prior.rays.occlusion || also.rays.closure_rays != prior.rays.closure_rays ||
+        also.visibility.size() != prior.visibility.size())
+        LTM_THROW("transport prior: a paired gather needs a copy of the prior with another exitance (the same nodes, tree and visibility)");
+    gather_rows(prior, &also, position, normal, stride, n, out, nullptr, also_out);
 }
 
 void gather_transport_prior_radiance(const TransportPrior &prior, const float *position, const float *normal, size_t stride,

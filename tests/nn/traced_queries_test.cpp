@@ -134,7 +134,8 @@ TEST(TracedQueries, ASilentBodyWithASkipFoldsToTheSameNumbers) {
 }
 
 // A random network with a random skip: the fused kernel and the libtorch modules give the same E⁺,
-// and decode() with R handed in (the trainer's cache) is decode() that gathers it.
+// decode() with R handed in (the trainer's cache) is decode() that gathers it, and the prior and R
+// from one walk (prior_and_regathered) are the two separate gathers' bits.
 TEST(TracedQueries, FusedEqualsLibtorchAndTheCachedRegatherIsTheGatheredOne) {
     Fixture f;
     LtmModel m = random_model(f.cfg, 5);
@@ -150,6 +151,10 @@ TEST(TracedQueries, FusedEqualsLibtorchAndTheCachedRegatherIsTheGatheredOne) {
     EXPECT_LT(test::relative_error(fused, m->predict_irradiance(f.qp, lat)), 1e-4);
     const auto scale = output_scale(f.qp, lat.norm), r = regathered_scale(f.qp, lat.norm);
     EXPECT_TRUE(torch::equal(m->decode(f.qp, lat, scale, r), m->decode(f.qp, lat)));
+    // Both from one walk (prior_and_regathered: what predict and the trainer call) are the two gathers' bits.
+    const auto [pair_scale, pair_r] = prior_and_regathered(f.qp, lat.norm);
+    EXPECT_TRUE(torch::equal(pair_scale, scale));
+    EXPECT_TRUE(torch::equal(pair_r, r));
     // The skip reads the last three columns: they are ln(R / Ê).
     const auto q = m->query_inputs(f.qp, lat.norm);
     ASSERT_EQ(q.size(1), 15);

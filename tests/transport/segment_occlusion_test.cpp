@@ -312,6 +312,52 @@ TEST(PriorRays, SameAtAnyThreadCount) {
     EXPECT_EQ(one, many);
 }
 
+// The paired gather (gather_transport_prior_pair: the prior and its regather, a copy with another
+// exitance) gives each the bits its own gather gives — through the tree by rays (an occluder whose
+// answers are a hash of the segment: any other sharing of answers changes them), through the tree by
+// clusters and through the dense rows — and walks once: with rays it traces the segments of one
+// gather, not two. A copy of another prior (another tree) is refused.
+TEST(PriorRays, APairedGatherIsTwoGathersInOneWalk) {
+    const Points pts = two_closed_rooms(10, true);
+    std::vector<Vec3f> qp, qn;
+    receivers(0.f, qp, qn), receivers(3.2f, qp, qn);
+    for (int i = 0; i < 40; ++i) qp.push_back({0.2f + 0.07f * float(i), 0.001f, 1.5f}), qn.push_back({0, 1, 0});
+    std::vector<float> pos, nrm;
+    for (size_t i = 0; i < qp.size(); ++i)
+        for (int c = 0; c < 3; ++c) pos.push_back(qp[i][c]), nrm.push_back(qn[i][c]);
+    const size_t n = qp.size();
+    const auto counting = std::make_shared<Counting<Hashed>>(Hashed{});
+    const TransportPrior by_rays = solve(pts, 0.09f, counting);
+    const TransportPrior dense = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 0.09f, 5, {}, PriorBalance::none, true, 0.f);
+    const TransportPrior tree = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 0.09f, 5, {}, PriorBalance::none, true, 0.5f);
+    for (const TransportPrior *prior : {&by_rays, &dense, &tree}) {
+        TransportPrior also = *prior;   // another exitance on the same nodes: a hash of each node's index
+        for (size_t j = 0; j < also.exitance.size(); ++j)
+            also.exitance[j] = Vec3f(float(j % 7), float(j % 3) + 0.5f, float((j * 5) % 11)) * 0.1f;
+        if (also.tree) also.tree_sums = std::make_shared<const PriorTree::Sums>(also.tree->sums(also.exitance));
+        const uint64_t before = counting->segments.load();
+        std::vector<float> a(3 * n, -1.f), b(3 * n, -1.f);
+        gather_transport_prior_pair(*prior, also, pos.data(), nrm.data(), 3, n, a.data(), b.data());
+        const uint64_t paired = counting->segments.load() - before;
+        const auto alone = test::gather(*prior, qp, qn);
+        const uint64_t single = counting->segments.load() - before - paired;
+        EXPECT_EQ(a, alone);
+        EXPECT_EQ(b, test::gather(also, qp, qn));
+        double sum = 0;
+        for (float v : b) sum += v;
+        EXPECT_GT(sum, 0.0);   // the second exitance is gathered, not zero
+        if (prior == &by_rays) {
+            EXPECT_GT(single, 0u);
+            EXPECT_EQ(paired, single) << "one walk's rays for both";
+        }
+    }
+    // The same nodes, solved again: another tree.
+    const TransportPrior other = solve_transport_prior(pts.p, pts.n, pts.rho, pts.le, 0.09f, 5, {}, PriorBalance::none, true, 0.5f);
+    std::vector<float> a(3 * n), b(3 * n);
+    EXPECT_THROW(gather_transport_prior_pair(tree, other, pos.data(), nrm.data(), 3, n, a.data(), b.data()), Error);
+    EXPECT_THROW(gather_transport_prior_pair(tree, dense, pos.data(), nrm.data(), 3, n, a.data(), b.data()), Error);
+}
+
 // Rows beyond the solve's budget are walked again at every bounce; with rays they replay their first
 // walk's decisions (PriorTree::RayLog) instead of tracing again: no rows kept, or all, give the same
 // exitance to the bit, and the replay traces nothing.

@@ -193,6 +193,10 @@ torch::Tensor output_scale(const torch::Tensor &query_points, const SceneNormali
 /// 10⁻³ · norm.output like output_scale. Throws ltm::Error when the frame has no regather (it was
 /// made without the scene's tracer).   query_points [N, 9] raw -> [N, 3]
 torch::Tensor regathered_scale(const torch::Tensor &query_points, const SceneNormalization &norm);
+/// output_scale and regathered_scale at once, for a frame with a transport prior and its regather:
+/// one walk of the prior's rows (and, with rays, one set of rays) for both, the same bits as the two
+/// calls. Throws ltm::Error without either.   query_points [N, 9] raw -> ([N, 3], [N, 3])
+std::pair<torch::Tensor, torch::Tensor> prior_and_regathered(const torch::Tensor &query_points, const SceneNormalization &norm);
 /// The traced queries' input: ln(R_c / Ê_c) per channel, the regathered prior's ratio to the prior
 /// at each query (0 in a dark channel). A ratio of two irradiances, both linear in emission and
 /// free of the unit: invariant to both. Its value is the log gain that turns the prior into R, so

@@ -77,6 +77,12 @@ SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const P
 /// (transport null). out [n] (raw units: W/m²). Deterministic at any thread count.
 void prior_scale_normalized(const TransportPrior *transport, Vec3f output, const float *rows, size_t stride, size_t n, Vec3f *out);
 
+/// prior_scale_normalized for the transport and for its regather (SceneFrame::regather) at the same
+/// rows in one pass (gather_transport_prior_pair: one walk, one set of rays): out and out_regather
+/// [n] bit for bit what two prior_scale_normalized calls give, both floored at 10⁻³ · output.
+void prior_scale_pair_normalized(const TransportPrior &transport, const TransportPrior &regather, Vec3f output, const float *rows,
+                                 size_t stride, size_t n, Vec3f *out, Vec3f *out_regather);
+
 /// Σ_{k=1..D} ρ^k per channel, ρ clamped to [0, 1], term by term in float: exact at ρ = 1 (= D),
 /// where the geometric formula divides by 0. The enclosure power balance's gain.
 Vec3f power_balance_factor(Vec3f rho, int bounces);

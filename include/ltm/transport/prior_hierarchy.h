@@ -201,6 +201,11 @@ public:
     /// far (optional, [count][3]): per receiver the aggregates' part of num (the rest came from exact terms).
     void gather_group(const Receiver *receivers, int count, const Sums &x, double *den, double (*num)[3], Scratch &scratch,
                       double (*far)[3] = nullptr) const;
+    /// gather_group() against two value sets in one walk (the prior's exitance and its regather's):
+    /// num and num2 bit for bit what gather_group gives for x and for x2 alone (den is theirs too), at
+    /// the cost of one walk — with rays, one set of rays.
+    void gather_group2(const Receiver *receivers, int count, const Sums &x, const Sums &x2, double *den, double (*num)[3],
+                       double (*num2)[3], Scratch &scratch) const;
     /// An order of n receivers (position and normal rows of `stride` floats) in which groups of
     /// k_group consecutive ones walk well together: by the axis they face most, then along a Morton
     /// curve through their bounding box (10 bits an axis; ties by index). Deterministic. O(n log n).
@@ -255,6 +260,8 @@ private:
     template <class Sink> struct Terms;
     template <class Sink> struct RayFilter;
     /// The walk of count ≤ k_group receivers (one alone: count 1) that visit's callbacks record.
+    /// One walk of a group of receivers, its terms summed by `sink` (gather_group, gather_group2).
+    template <class Sink> void walk_sums(const Receiver *receivers, int count, Sink &sink, Scratch &scratch) const;
     template <class Visit> void traverse(const Receiver *receivers, int count, std::vector<Entry> &stack, Visit &&visit) const;
     int32_t build(uint32_t lo, uint32_t hi, std::vector<uint32_t> &items, bool clusters, const std::vector<Vec3f> &pos,
                   const std::vector<Vec3f> &nrm);

@@ -127,6 +127,14 @@ TransportPrior solve_transport_prior(const PointSet &scene_points, float node_ar
 void gather_transport_prior(const TransportPrior &prior, const float *position, const float *normal, size_t stride,
                             size_t n, float *out, float *far = nullptr);
 
+/// gather_transport_prior for `prior` and for `also` — a copy of prior with another exitance (the
+/// regather, nn/scene_frame.cpp) — in one pass: each receiver's row is walked, and with rays its
+/// closure and its terms traced, once for both. out and also_out [n, 3]: bit for bit what
+/// gather_transport_prior gives for each alone. Throws when `also` is not such a copy (another tree,
+/// node count, near field, rays or cluster count).
+void gather_transport_prior_pair(const TransportPrior &prior, const TransportPrior &also, const float *position, const float *normal,
+                                 size_t stride, size_t n, float *out, float *also_out);
+
 /// Incident radiance L⁺ for n (receiver, direction) rows: the gather above, split by where each
 /// node lies as seen from the receiver. The nodes' shares Ĝ_j(p, n)·ex_j fall into R×R cells of
 /// equal projected solid angle π/R² (the concentric cosine map of core/sampling.h, in Frame(n));
