@@ -109,8 +109,8 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         }
 #endif
         if (!decoded) {
-            const PriorScene ps = encode_prior_scene(cfg, accel, common.seed);
-            indirect = decode_gbuffer(prior_decoder(std::make_shared<const SceneFrame>(ps.frame)), gb);
+            const PriorScene ps = encode_prior_scene(cfg, accel, common.seed, true, m->prior.folded);
+            indirect = decode_gbuffer(prior_decoder(std::make_shared<const SceneFrame>(ps.frame), nullptr, m->prior.skip), gb);
         }
         // Direct light as `ltm render --method neural` computes it (ratio estimator when every
         // emitter is constant, else the path tracer's MIS).

@@ -54,9 +54,9 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     opt.glossy = glossy;
     opt.bounce = parse_bounce_irradiance(a.bounce);
 #if LTM_WITH_TORCH
-    const NeuralRender r = m.tensor ? render_neural(m.tensor->model, pt, cam, opt) : render_prior(cfg, pt, cam, opt);
+    const NeuralRender r = m.tensor ? render_neural(m.tensor->model, pt, cam, opt) : render_prior(cfg, pt, cam, opt, m.prior.skip);
 #else
-    const NeuralRender r = render_prior(cfg, pt, cam, opt);
+    const NeuralRender r = render_prior(cfg, pt, cam, opt, m.prior.skip);
 #endif
     if (r.n_conductor > 0 && r.glossy == GlossyShading::diffuse)
         log_warn(r.n_conductor, " pixels see conductors: shaded as diffuse (--glossy diffuse)");
@@ -71,12 +71,12 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     const double write_s = seconds_since(t);
     const auto &rt = r.timings;
     // What inference ran: the network; a silent body folded to its skip (the prior and its regather,
-    // no encoder, no attention: LtmModelImpl::fold_prior); or the prior alone.
+    // no encoder, no attention: LtmModelImpl::fold_prior, or infer/prior_model.h without libtorch); or
+    // the prior alone.
     std::string network = m.network ? "active" : "silenced: the prior alone, without libtorch";
-#if LTM_WITH_TORCH
-    if (m.tensor && m.tensor->model->fold_prior && m.tensor->model->decoder->body_silent() && !m.tensor->model->decoder->skip_silent())
-        network = "folded: the prior and its regather through the skip, without the encoder or attention";
-#endif
+    if (m.prior.folded)
+        network = std::string("folded: the prior and its regather through the skip, without the encoder or attention") +
+                  (m.network ? "" : ", without libtorch");
     OrderedJson j = {{"scene", a.scene},
                      {"model", a.model},
                      {"network", network},

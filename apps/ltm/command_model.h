@@ -14,7 +14,7 @@
 namespace ltm::cli {
 
 struct CommandModel {
-    PriorModel prior;   ///< the config, and whether the network is silenced
+    PriorModel prior;   ///< the config, and whether the network is silenced or folds to its skip
 #if LTM_WITH_TORCH
     std::optional<LoadedModel> tensor;   ///< loaded when the network runs
 #endif

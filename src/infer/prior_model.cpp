@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "ltm/core/error.h"
 #include "ltm/core/log.h"
@@ -25,7 +26,10 @@ PriorModel load_prior_model(const std::string &path) {
     m.cfg = w.config;
     m.path = path;
     m.metadata = w.file.metadata;
-    m.silenced = network_silenced(w, path);
+    const std::optional<Vec3f> skip = silent_body_skip(w, path);
+    m.silenced = skip && *skip == Vec3f(0.f);
+    m.folded = skip && !m.silenced;
+    if (m.folded) m.skip = *skip;
     return m;
 }
 
@@ -95,7 +99,7 @@ PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &acce
     };
 }
 
-PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed) {
+PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed, bool regather) {
     // The steps of the tensor model's encode_scene (infer/neural_renderer.h), on plain arrays.
     PriorScene s;
     auto t = Clock::now();
@@ -114,35 +118,39 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
     s.geometry_seconds = seconds_since(t);
     t = Clock::now();
     // physics.prior_rays: the prior's visibility by rays against this scene's meshes.
-    s.frame = solve_scene_frame(s.points.values.data(), m, groups, cfg.physics, &sampled.emission_scale, prior_occlusion(cfg, accel));
+    // regather: the traced paths and the regather for the queries only (no encoder reads the points').
+    s.frame = solve_scene_frame(s.points.values.data(), m, groups, cfg.physics, &sampled.emission_scale, prior_occlusion(cfg, accel),
+                                regather ? traced_inputs_tracer(cfg, accel) : PointTracer{}, /*point_inputs=*/false);
     s.encode_seconds = seconds_since(t);
     log_debug("scene frame: length unit ℓ = ", s.frame.length, ", emission scale S = ", s.frame.emission, ", output scale = ", s.frame.output);
     return s;
 }
 
-IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame, DecodeTimings *timings) {
-    return [frame, timings](const std::vector<float> &rows) {
+IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame, DecodeTimings *timings, Vec3f skip) {
+    return [frame, timings, skip](const std::vector<float> &rows) {
         const auto t = Clock::now();
         std::vector<Vec3f> out(rows.size() / 9);
-        prior_irradiance(*frame, rows.data(), out.size(), out.data());
+        folded_irradiance(*frame, skip, rows.data(), out.size(), out.data());
         if (timings) timings->decode += seconds_since(t);
         return out;
     };
 }
 
-NeuralRender render_prior(const ModelConfig &cfg, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt) {
+NeuralRender render_prior(const ModelConfig &cfg, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt, Vec3f skip) {
     if (opt.glossy == GlossyShading::head)
         LTM_THROW("neural render: the prior alone has no directional head (use --glossy trace or diffuse)");
     const auto t0 = Clock::now();
-    PriorScene scene = encode_prior_scene(cfg, pt.accel(), opt.seed, opt.exclude_enclosed);
+    const bool folded = !(skip == Vec3f(0.f));
+    if (folded && cfg.traced_inputs <= 0) LTM_THROW("neural render: a folded skip needs the model's traced inputs (traced_inputs)");
+    PriorScene scene = encode_prior_scene(cfg, pt.accel(), opt.seed, opt.exclude_enclosed, folded);
     const auto frame = std::make_shared<const SceneFrame>(std::move(scene.frame));
     DecodeTimings timings;
     GiSource src;
-    src.irradiance = prior_decoder(frame, &timings);
+    src.irradiance = prior_decoder(frame, &timings, skip);
     src.timings = &timings;
     src.points = &scene.points, src.spacing = scene.spacing, src.n_scene_points = scene.n_scene_points;
     src.sample_seconds = scene.sample_seconds, src.geometry_seconds = scene.geometry_seconds, src.encode_seconds = scene.encode_seconds;
-    src.prior_solve_seconds = frame->solve_seconds;
+    src.prior_solve_seconds = frame->solve_seconds, src.trace_seconds = frame->trace_seconds;
     NeuralRender r = render_with_gi(src, pt, camera, opt);
     r.timings.total = seconds_since(t0);   // the encode included
     r.image.seconds = r.timings.total;

@@ -78,11 +78,15 @@ SceneNormalization scene_normalization(const torch::Tensor &sp, const SceneGeome
     n.regather = f.regather;
     n.solve_seconds = f.solve_seconds;
     n.trace_seconds = f.trace_seconds;
-    if (!f.regathered.empty()) {
+    if (!f.traced.empty()) {
         const int64_t m = int64_t(f.traced.size());
         const auto traced = torch::from_blob(const_cast<Vec3f *>(f.traced.data()), {m, 3}, torch::kFloat32);
-        const auto regathered = torch::from_blob(const_cast<Vec3f *>(f.regathered.data()), {m, 3}, torch::kFloat32);
-        n.point_traced = torch::cat({traced, regathered}, 1).to(opts);   // [M, 6] (cat copies)
+        if (!f.regathered.empty()) {
+            const auto regathered = torch::from_blob(const_cast<Vec3f *>(f.regathered.data()), {m, 3}, torch::kFloat32);
+            n.point_traced = torch::cat({traced, regathered}, 1).to(opts);   // [M, 6] (cat copies)
+        } else {
+            n.traced_light = traced.clone().to(opts);   // [M, 3]: point_traced's first half, for a deferred encoder
+        }
     }
     return n;
 }
@@ -140,7 +144,9 @@ SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, 
                                              bool point_inputs) const {
     SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion),
                                                cfg.traced_inputs > 0 ? tracer : PointTracer{}, point_inputs);
-    if (!cfg.traced_queries) n.regather.reset();   // only the queries' column reads it: its memory is the prior's again
+    // Only the queries' column reads it (or a deferred encoder, which regathers at its points later):
+    // otherwise its memory is the prior's again.
+    if (!cfg.traced_queries && point_inputs) n.regather.reset();
     // The points as queries, so a query at a scene point sees that point's feature (and the level
     // points their prior: decoder.level_points reads it, with or without prior inputs).
     if ((cfg.prior_inputs && point_inputs) || cfg.decoder.level_points > 0) n.point_prior = output_scale(scene_points.slice(1, 0, 9), n);
@@ -158,9 +164,10 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     const bool at_prior = fold && decoder->skip_silent();
     // Folded at the prior without a directional head, no input is read: the traced inputs are not
     // traced. A silent body with a skip reads the regather (traced), not the latents.
+    // Folded, the per-point inputs are gathered only if a directional head asks (encoder_inputs).
     out.norm = frame ? *frame
                      : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion), at_prior && !directional ? PointTracer{} : tracer,
-                                   /*point_inputs=*/!fold || directional);
+                                   /*point_inputs=*/!fold);
     if (fold && !at_prior && !out.norm.regather)
         LTM_THROW("model '", cfg.name, "' has traced queries: encoding a scene needs its path tracer (the regathered prior)");
     auto x = normalize_scene_points(scene_points, out.norm);
@@ -182,30 +189,46 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
         out.features = torch::zeros({out.anchors.size(0), encoder->out_channels()}, x.options());
         return out;
     }
-    if (cfg.prior_inputs) {
-        if (!out.norm.point_prior.defined()) LTM_THROW("encode: the given frame has no point_prior (make it with scene_frame)");
-        TORCH_CHECK(out.norm.point_prior.dim() == 2 && out.norm.point_prior.size(0) == x.size(0) && out.norm.point_prior.size(1) == 3,
-                    "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", out.norm.point_prior.sizes());
-        x = torch::cat({x, prior_features(out.norm.point_prior, out.norm)}, 1);   // [M, 15]
-    }
-    if (cfg.traced_inputs > 0) {
-        const auto &t = out.norm.point_traced;
-        if (!t.defined())
-            LTM_THROW("model '", cfg.name, "' has traced inputs (traced_inputs ", cfg.traced_inputs,
-                      "): encoding a scene needs its path tracer (render, eval, bake-gi and training draws pass it; scene points alone have none)");
-        TORCH_CHECK(t.dim() == 2 && t.size(0) == x.size(0) && t.size(1) == 6,
-                    "encode: point_traced must be [M, 6] for M = ", x.size(0), ", got ", t.sizes());
-        x = torch::cat({x, prior_features(t.slice(1, 0, 3), out.norm), prior_features(t.slice(1, 3, 6), out.norm)}, 1);   // [M, 21]
-    }
     if (fold) {
-        // Only the directional head reads the latents, and only when asked: its encoder run waits.
+        // Only the directional head reads the latents, and only when asked: its encoder run waits,
+        // and so do the per-point inputs it would read.
         out.deferred = std::make_shared<SceneLatents::Deferred>();
-        out.deferred->x = x, out.deferred->centers = geometry.centers, out.deferred->groups = geometry.groups;
+        out.deferred->x = x, out.deferred->rows = scene_points.slice(1, 0, 9);
+        out.deferred->centers = geometry.centers, out.deferred->groups = geometry.groups;
         return out;
     }
+    x = encoder_inputs(x, scene_points.slice(1, 0, 9), out.norm);
     const auto tokens = embedding->forward(x, geometry.centers, geometry.groups);   // [m, D]
     out.features = encoder->forward(tokens, out.anchors);                         // [m, C]
     return out;
+}
+
+torch::Tensor LtmModelImpl::encoder_inputs(torch::Tensor x, const torch::Tensor &rows, const SceneNormalization &norm) const {
+    torch::Tensor prior = norm.point_prior, traced = norm.point_traced;
+    if (cfg.traced_inputs > 0 && !traced.defined() && norm.traced_light.defined()) {
+        // A deferred encoder: the prior and the regather at every scene point, in one walk.
+        if (!norm.regather) LTM_THROW("encode: the frame has the traced light but not its regather");
+        torch::Tensor r;
+        std::tie(prior, r) = prior_and_regathered(rows, norm);
+        traced = torch::cat({norm.traced_light, r}, 1);   // [M, 6]
+    } else if (cfg.prior_inputs && !prior.defined() && norm.transport) {
+        prior = output_scale(rows, norm);   // a deferred encoder without traced inputs
+    }
+    if (cfg.prior_inputs) {
+        if (!prior.defined()) LTM_THROW("encode: the given frame has no point_prior (make it with scene_frame)");
+        TORCH_CHECK(prior.dim() == 2 && prior.size(0) == x.size(0) && prior.size(1) == 3,
+                    "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", prior.sizes());
+        x = torch::cat({x, prior_features(prior, norm)}, 1);   // [M, 15]
+    }
+    if (cfg.traced_inputs > 0) {
+        if (!traced.defined())
+            LTM_THROW("model '", cfg.name, "' has traced inputs (traced_inputs ", cfg.traced_inputs,
+                      "): encoding a scene needs its path tracer (render, eval, bake-gi and training draws pass it; scene points alone have none)");
+        TORCH_CHECK(traced.dim() == 2 && traced.size(0) == x.size(0) && traced.size(1) == 6,
+                    "encode: point_traced must be [M, 6] for M = ", x.size(0), ", got ", traced.sizes());
+        x = torch::cat({x, prior_features(traced.slice(1, 0, 3), norm), prior_features(traced.slice(1, 3, 6), norm)}, 1);   // [M, 21]
+    }
+    return x;
 }
 
 torch::Tensor LtmModelImpl::features(const SceneLatents &latents) {
@@ -214,7 +237,8 @@ torch::Tensor LtmModelImpl::features(const SceneLatents &latents) {
     const std::lock_guard<std::mutex> lock(d.mutex);
     if (!d.features.defined()) {
         torch::NoGradGuard no_grad;
-        d.features = encoder->forward(embedding->forward(d.x, d.centers, d.groups), latents.anchors);   // [m, C]
+        const auto x = encoder_inputs(d.x, d.rows, latents.norm);
+        d.features = encoder->forward(embedding->forward(x, d.centers, d.groups), latents.anchors);   // [m, C]
     }
     return d.features;
 }

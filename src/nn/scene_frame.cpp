@@ -237,15 +237,39 @@ float prior_gain() {
     return gain;
 }
 
-void prior_irradiance(const SceneFrame &f, const float *rows, size_t n, Vec3f *out) {
+namespace {
+// Query rows [n, 9] raw -> the normalised frame: (p − centre)/ℓ, n, albedo (normalize_query_points).
+std::vector<float> normalized_queries(const SceneFrame &f, const float *rows, size_t n) {
     std::vector<float> q(n * 9);
     for (size_t i = 0; i < n; ++i) {
         for (size_t a = 0; a < 3; ++a) q[i * 9 + a] = (rows[i * 9 + a] - f.center[int(a)]) / f.length;
         for (size_t c = 3; c < 9; ++c) q[i * 9 + c] = rows[i * 9 + c];
     }
+    return q;
+}
+}  // namespace
+
+void prior_irradiance(const SceneFrame &f, const float *rows, size_t n, Vec3f *out) {
+    const std::vector<float> q = normalized_queries(f, rows, n);
     prior_scale_normalized(f.transport.get(), f.output, q.data(), 9, n, out);
     const float g = prior_gain();
     for (size_t i = 0; i < n; ++i) out[i] = out[i] * g;
+}
+
+void folded_irradiance(const SceneFrame &f, Vec3f skip, const float *rows, size_t n, Vec3f *out) {
+    if (skip == Vec3f(0.f)) return prior_irradiance(f, rows, n, out);
+    if (!f.transport || !f.regather) LTM_THROW("a folded skip needs the frame's transport prior and its regather (a tracer)");
+    const std::vector<float> q = normalized_queries(f, rows, n);
+    std::vector<Vec3f> r(n);
+    prior_scale_pair_normalized(*f.transport, *f.regather, f.output, q.data(), 9, n, out, r.data());
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            // traced_query_features, then softplus (threshold 20, as torch's) and irradiance_from_z.
+            const float s = out[i][c], x = (r[i][c] > 0.f && s > 0.f) ? std::log(std::max(r[i][c], 1e-30f) / std::max(s, 1e-30f)) : 0.f;
+            const float y = skip[c] * x;
+            const float z = y > 20.f ? y : std::log1p(std::exp(y));
+            out[i][c] = s * std::expm1(z);
+        }
 }
 
 }  // namespace ltm

@@ -2,7 +2,9 @@
 #include "ltm/nn/weights_file.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <optional>
 
 #include "ltm/core/error.h"
 #include "ltm/core/json_util.h"
@@ -37,7 +39,7 @@ WeightsFile read_weights_file(const std::string &path) {
     return w;
 }
 
-bool network_silenced(const WeightsFile &w, const std::string &path) {
+std::optional<Vec3f> silent_body_skip(const WeightsFile &w, const std::string &path) {
     // The decoder's output MLP is "decoder.out.<i>.*" (LayerNorm, Linear, GELU, Linear: nn/query_decoder.h);
     // its last Linear is the highest i with a weight.
     const std::string prefix = "decoder.out.";
@@ -71,14 +73,24 @@ bool network_silenced(const WeightsFile &w, const std::string &path) {
     const auto skip = w.file.tensors.find("decoder.skip");
     if (w.config.traced_queries && skip == w.file.tensors.end())
         LTM_THROW(path, ": missing tensor 'decoder.skip': the config has traced_queries");
+    Vec3f weights(0.f);
     if (skip != w.file.tensors.end()) {
         if (skip->second.shape != std::vector<int64_t>{3})
             LTM_THROW(path, ": tensor 'decoder.skip' has shape ", shape_string(skip->second.shape), ", the model expects [3]");
-        std::vector<float> v(skip->second.numel());
-        skip->second.copy_f32(v.data(), path + ": tensor 'decoder.skip'");
-        for (const float x : v) zero &= x == 0.f;
+        if (!w.config.traced_queries) LTM_THROW(path, ": tensor 'decoder.skip' without traced_queries in the config");
+        float v[3];
+        skip->second.copy_f32(v, path + ": tensor 'decoder.skip'");
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(v[c])) LTM_THROW(path, ": tensor 'decoder.skip' is not finite");
+        weights = Vec3f(v[0], v[1], v[2]);
     }
-    return zero;
+    if (!zero) return std::nullopt;
+    return weights;
+}
+
+bool network_silenced(const WeightsFile &w, const std::string &path) {
+    const std::optional<Vec3f> skip = silent_body_skip(w, path);
+    return skip && *skip == Vec3f(0.f);
 }
 
 }  // namespace ltm

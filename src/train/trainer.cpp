@@ -197,7 +197,20 @@ void Trainer::init_weights(const std::string &path) {
     std::map<std::string, torch::Tensor> tensors;
     for (const auto &p : w->named_parameters()) tensors[p.key()] = p.value();
     for (const auto &b : w->named_buffers()) tensors[b.key()] = b.value();
-    if (m_model_cfg.traced_inputs > 0 && w->cfg.traced_inputs == 0 && w->cfg.prior_inputs) {
+    // Which inputs the file's first layers read so far (each conversion below widens them in turn).
+    bool prior_inputs = w->cfg.prior_inputs;
+    if (m_model_cfg.prior_inputs && !prior_inputs) {
+        // The documented conversion (docs/config.md, prior_inputs): the embedding's and the decoder's
+        // first layers read the prior's features in 3 columns after the point's own; they start at zero
+        // weight, so the model starts as the weights it came from (the prior features are finite).
+        for (const auto &[name, own] : {std::pair{"embedding.f.0.weight", 12}, std::pair{"decoder.embed.0.weight", 9}}) {
+            torch::Tensor &t = tensors.at(name);
+            if (t.dim() == 2 && t.size(1) == own) t = torch::cat({t, torch::zeros({t.size(0), 3}, t.options())}, 1);
+        }
+        log_info(path, ": no prior inputs; embedding.f.0.weight and decoder.embed.0.weight widened by 3 zero columns (the model starts as these weights)");
+        prior_inputs = true;
+    }
+    if (m_model_cfg.traced_inputs > 0 && w->cfg.traced_inputs == 0 && prior_inputs) {
         // The documented conversion (docs/config.md, traced_inputs): the embedding's first layer reads
         // the traced inputs in 6 columns after the prior's; they start at zero weight, so the model
         // starts as the weights it came from, whatever its scene traces.
@@ -209,7 +222,7 @@ void Trainer::init_weights(const std::string &path) {
             log_info(path, ": no traced inputs; ", name, " widened by 6 zero columns (the model starts as these weights)");
         }
     }
-    if (m_model_cfg.traced_queries && !w->cfg.traced_queries && w->cfg.prior_inputs) {
+    if (m_model_cfg.traced_queries && !w->cfg.traced_queries && prior_inputs) {
         // The documented conversion (docs/config.md, traced_queries): the decoder's first layer reads
         // ln(R / Ê) in 3 columns after the prior's, and the skip carries it to the output; both start
         // at zero, so the model starts as the weights it came from.

@@ -176,8 +176,8 @@ TEST(BadInput, RenderRejectsBadCamerasAndSettings) {
     expect_error(dir, n, {"render", "builtin:cornell-box", "--method", "neural", "-o", dir.path("r")}, "render", "neural");
 }
 
-// The shipped weights are their prior (the decoder's output layer zero): they render in any build,
-// without libtorch. The same file with that layer set going is an active network: a build without
+// The shipped weights have a silent body (the decoder's output layer zero; the skip folds them to the
+// regathered prior): they render in any build, without libtorch. The same file with that layer set going is an active network: a build without
 // libtorch says in one line that running it needs libtorch, and writes nothing; a libtorch build
 // renders it through the tensor model.
 TEST(BadInput, WeightsAtTheirPriorRenderInAnyBuildAnActiveNetworkNeedsLibtorch) {
@@ -186,7 +186,7 @@ TEST(BadInput, WeightsAtTheirPriorRenderInAnyBuildAnActiveNetworkNeedsLibtorch) 
     const Result r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", shipped, "--scene-points", "2048", "--width", "12",
                           "--height", "12", "-o", dir.path("prior"), "--quiet"});
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(read_file(dir.path("prior.timings.json")).find("\"network\": \"silenced"), std::string::npos);
+    EXPECT_NE(read_file(dir.path("prior.timings.json")).find("\"network\": \"folded"), std::string::npos);
     test::write_active_weights(shipped, dir.path("active.safetensors"));
     const std::vector<std::string> args = {"render", "builtin:cornell-box", "--method", "neural", "--model", dir.path("active.safetensors"),
                                            "--scene-points", "2048", "--width", "12", "--height", "12", "-o", dir.path("active"), "--quiet"};
@@ -266,16 +266,19 @@ TEST(BadInput, DirectionalHeadMissingIsOneLine) {
 // output. The upper bound is the dense prior's memory (~4·M² bytes).
 TEST(BadInput, ScenePointsOutOfBoundsIsOneLineNamingTheLimit) {
     test::TempDir dir;
+    // The dense rows' bound: the shipped model's prior goes through its tree (θ 0.5, by rays); this copy's does not.
+    const std::string dense = dir.path("dense.safetensors");
+    test::write_weights_with_physics(test::source_path("models/ltm-cpu.safetensors"), dense, {{"prior_rays", false}, {"prior_theta", 0.0}});
     const size_t n = dir.count();
     for (const auto &[count, bound] : {std::pair<std::string, std::string>{"100000", "limit of 32768"}, {"100", "minimum of 256"}}) {
-        const Result r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", test::source_path("models/ltm-cpu.safetensors"),
+        const Result r = run({"render", "builtin:cornell-box", "--method", "neural", "--model", dense,
                               "--scene-points", count, "--width", "16", "--height", "16", "-o", dir.path("r")});
         EXPECT_EQ(r.code, 1) << r.err;
         EXPECT_NE(r.err.find("ltm render: error: --scene-points " + count + ": "), std::string::npos) << r.err;
         EXPECT_NE(r.err.find(bound), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
-    const Result e = run({"eval", "--model", test::source_path("models/ltm-cpu.safetensors"), "--scenes", "builtin:cornell-box",
+    const Result e = run({"eval", "--model", dense, "--scenes", "builtin:cornell-box",
                           "--scene-points", "40000", "--no-grids", "-o", dir.path("e")});
     EXPECT_EQ(e.code, 1) << e.err;
     EXPECT_NE(e.err.find("limit of 32768"), std::string::npos) << e.err;
@@ -391,8 +394,9 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
 // open at the front, where the two closures differ most).
 TEST(BadInput, PriorRaysRender) {
     test::TempDir dir;
-    const std::string model = test::source_path("models/ltm-cpu.safetensors");
-    const Result points = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "8192",
+    const std::string model = test::source_path("models/ltm-cpu.safetensors"), by_points = dir.path("points.safetensors");
+    test::write_weights_with_physics(model, by_points, {{"prior_rays", false}});   // the shipped model's visibility is by rays
+    const Result points = run({"render", "builtin:cornell-box", "--method", "neural", "--model", by_points, "--scene-points", "8192",
                                "--prior-theta", "0.5", "--width", "24", "--height", "24", "-o", dir.path("points")});
     ASSERT_EQ(points.code, 0) << points.err;
     const Result rays = run({"render", "builtin:cornell-box", "--method", "neural", "--model", model, "--scene-points", "8192",

@@ -260,6 +260,48 @@ TEST(NeuralRenderer, PriorRenderWithoutTorchIsTheTensorModelAtItsPrior) {
     EXPECT_THROW(render_prior(model->cfg, pt, cam, head), Error);
 }
 
+// A silent body with a skip (the regathered prior as weights, models/README.md): the file reads as
+// folded, not silenced, and rendered without libtorch (render_prior with the file's skip) it is the
+// tensor model's fold to float rounding (libm against libtorch's log, exp); the skip moves it off the
+// prior alone; a config without traced inputs cannot fold a skip.
+TEST(NeuralRenderer, AFoldedSkipWithoutTorchIsTheTensorModelsFold) {
+    Room r;
+    ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny-pi.json"));
+    cfg.traced_inputs = 4, cfg.traced_queries = true;
+    torch::manual_seed(5);
+    LtmModel model(cfg);
+    model->eval();
+    model->decoder->start_at_prior();
+    {
+        torch::NoGradGuard g;
+        model->decoder->skip.copy_(torch::tensor({0.7f, 1.0f, 1.3f}));
+    }
+    test::TempDir dir;
+    save_weights(dir.path("folded.safetensors"), model);
+    const PriorModel pm = load_prior_model(dir.path("folded.safetensors"));
+    EXPECT_FALSE(pm.silenced);
+    EXPECT_TRUE(pm.folded && pm.torch_free());
+    EXPECT_TRUE(pm.skip == Vec3f(0.7f, 1.f, 1.3f));
+    const Camera cam = Room::view(24);
+    NeuralRenderOptions opt;
+    opt.direct_spp = 4, opt.seed = 3, opt.glossy = GlossyShading::diffuse;
+    const NeuralRender a = render_neural(model, r.pt, cam, opt), b = render_prior(pm.cfg, r.pt, cam, opt, pm.skip);
+    const NeuralRender prior = render_prior(pm.cfg, r.pt, cam, opt);
+    ASSERT_EQ(a.n_decoded, b.n_decoded);
+    double worst = 0, moved = 0;
+    for (size_t i = 0; i < a.image.irradiance.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double x = b.image.irradiance.pixels[i][c];
+            worst = std::max(worst, std::abs(double(a.image.irradiance.pixels[i][c]) - x) / (x + 1e-12));
+            moved = std::max(moved, std::abs(double(prior.image.irradiance.pixels[i][c]) - x) / (x + 1e-12));
+        }
+    EXPECT_LT(worst, 1e-5) << "relative, at the worst pixel";
+    EXPECT_GT(moved, 1e-2) << "the skip moves the prior";
+    ModelConfig untraced = pm.cfg;
+    untraced.traced_inputs = 0;
+    EXPECT_THROW(render_prior(untraced, r.pt, cam, opt, pm.skip), Error);
+}
+
 // The node field holds each scene point's own decoded value: a decoder that answers each query
 // row with its position gives every point its own position back (the group_order permutation
 // and its inverse), and a point set without the query columns is refused.
@@ -446,6 +488,7 @@ TEST(NeuralRenderer, PriorRaysFollowTheSceneAndNeedItsMeshes) {
     LtmModel rays = load_weights(test::source_path("models/ltm-cpu.safetensors"));
     LtmModel points = load_weights(test::source_path("models/ltm-cpu.safetensors"));
     rays->eval(), points->eval();
+    points->cfg.physics.prior_rays = false;   // the shipped model's visibility is by rays; the points' clusters here
     set_prior_rays(rays);
     EXPECT_TRUE(rays->cfg.physics.prior_rays);
     EXPECT_EQ(rays->cfg.physics.prior_theta, 0.5f);   // rays test the tree's terms

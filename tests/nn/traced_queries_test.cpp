@@ -133,6 +133,44 @@ TEST(TracedQueries, ASilentBodyWithASkipFoldsToTheSameNumbers) {
     }
 }
 
+// A silent body with a skip and a directional head (the shipped regathered model: its head reads
+// the encoder): encode() defers the encoder and its per-point inputs (no prior or regather gathered
+// at the scene points), the irradiance does not run them, and the head's first call makes them —
+// the unfolded model's features to the bit, and its radiance.
+TEST(TracedQueries, ASilentBodyWithAHeadDefersTheEncoderAndItsInputs) {
+    Fixture f;
+    DirectionalConfig d;
+    d.dim = 16, d.groups = 4, d.n_layers = 1, d.direction_frequencies = 3, d.bin_resolution = 4, d.prior_cells = 4;
+    f.cfg.directional = d;
+    LtmModel m = random_model(f.cfg, 9);
+    {
+        torch::NoGradGuard g;
+        for (auto &t : m->decoder->output_parameters()) t.zero_();
+        m->decoder->skip.copy_(torch::tensor({1.f, 0.8f, 1.2f}));
+    }
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const auto geometry = m->scene_geometry(f.sp);
+    const SceneLatents folded = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    ASSERT_TRUE(folded.deferred);
+    EXPECT_FALSE(folded.norm.point_traced.defined() || folded.norm.point_prior.defined()) << "no per-point inputs yet";
+    EXPECT_TRUE(folded.norm.traced_light.defined() && folded.norm.regather) << "what makes them later";
+    const auto e = m->predict_irradiance(f.qp, folded);
+    EXPECT_FALSE(folded.deferred->features.defined()) << "the irradiance does not run the encoder";
+    const auto n = f.qp.slice(1, 3, 6);
+    const auto t = torch::tensor({0.3f, -0.5f, 0.8f}).expand_as(n);
+    auto dir = n + 0.5 * (t - (t * n).sum(1, true) * n);
+    dir = dir / dir.norm(2, 1, true);
+    const auto lazy = m->predict_radiance(f.qp, dir, folded);
+    EXPECT_TRUE(folded.deferred->features.defined());
+    m->fold_prior = false;
+    const SceneLatents full = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    ASSERT_TRUE(full.features.defined() && full.norm.point_traced.defined());
+    EXPECT_TRUE(torch::equal(m->features(folded), full.features));
+    EXPECT_TRUE(torch::allclose(m->predict_radiance(f.qp, dir, full), lazy, 1e-6, 0.0));
+    EXPECT_LT(test::relative_error(m->predict_irradiance(f.qp, full), e), 1e-5);
+}
+
 // A random network with a random skip: the fused kernel and the libtorch modules give the same E⁺,
 // decode() with R handed in (the trainer's cache) is decode() that gathers it, and the prior and R
 // from one walk (prior_and_regathered) are the two separate gathers' bits.

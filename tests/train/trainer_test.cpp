@@ -720,6 +720,26 @@ TEST(Trainer, TracedQueriesStartAsTheWeightsTheyWidenAndTheSkipLearnsAtItsScale)
     }
 }
 
+// --init from weights without prior inputs (the paper's inputs only, as v0.13) into a config with
+// them: the embedding's and the decoder's first layers get three zero columns each, so the model
+// starts as the weights it came from (how v0.14 was made from v0.13, with the traced widenings after).
+TEST(Trainer, PriorInputsStartAsTheWeightsTheyWiden) {
+    test::TempDir dir;
+    ModelConfig plain = tiny_with_prior_inputs();
+    plain.prior_inputs = false;
+    const double before = save_perturbed_weights(plain, dir);
+    Trainer b(tiny_with_prior_inputs(), small_train(0), {dataset_dir()}, dir.path("b"));
+    b.init_weights(dir.path("w.safetensors"));
+    const auto embed = b.model()->embedding->named_parameters()["f.0.weight"].detach();
+    const auto decode = b.model()->decoder->named_parameters()["embed.0.weight"].detach();
+    ASSERT_EQ(embed.size(1), 15);
+    ASSERT_EQ(decode.size(1), 12);
+    EXPECT_EQ(embed.slice(1, 12, 15).abs().max().item<float>(), 0.f);
+    EXPECT_EQ(decode.slice(1, 9, 12).abs().max().item<float>(), 0.f);
+    EXPECT_GT(embed.slice(1, 0, 12).abs().max().item<float>(), 0.f) << "the file's own columns";
+    EXPECT_NEAR(b.validate(), before, 1e-6 * std::abs(before)) << "the widened model is the model it came from";
+}
+
 // --init from weights with a directional head into a config without one (the traced presets, whose
 // draws cannot train a head): the head's tensors are left out and the irradiance model is the same.
 TEST(Trainer, InitIntoAConfigWithoutTheHeadLeavesTheHeadOut) {

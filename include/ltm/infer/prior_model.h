@@ -24,6 +24,12 @@ struct PriorModel {
     std::string path;
     std::map<std::string, std::string> metadata;
     bool silenced = false;   ///< the network is silenced (nn/weights_file.h network_silenced): the model is its prior
+    /// A silent body with a skip (nn/weights_file.h silent_body_skip): the model is its regathered
+    /// prior through the skip's weights `skip` (folded_irradiance), also without libtorch.
+    bool folded = false;
+    Vec3f skip{0.f};
+    /// Renderable without the network: the prior alone, or the folded skip.
+    bool torch_free() const { return silenced || folded; }
 };
 /// Reads and checks the file as load_model does (one-line "path: ..." errors).
 PriorModel load_prior_model(const std::string &path);
@@ -75,17 +81,22 @@ struct PriorScene {
 /// The occlusion the prior traces against when physics.prior_rays is set (the scene's meshes;
 /// `accel` must outlive the frame); null otherwise.
 std::shared_ptr<const SegmentOcclusion> prior_occlusion(const ModelConfig &cfg, const EmbreeAccel &accel);
-PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true);
+/// regather: also trace the scene points and regather the prior (SceneFrame::regather, for a folded
+/// skip), as the tensor model's folded encode does (the same tracer and seed: the same numbers).
+PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true,
+                              bool regather = false);
 /// The tracer of a model's traced inputs (ModelConfig::traced_inputs strata per scene point) in this
 /// scene: its own random streams (k_traced_inputs_seed, never a reference's or a record's), `accel`
 /// must outlive it; empty when the model has none.
 inline constexpr uint64_t k_traced_inputs_seed = 0x7ace5eed0001ull;
 PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel);
-/// The prior's Ê⁺ (nn/scene_frame.h prior_irradiance) as a decoder; shares the frame. `timings`
-/// (optional) accumulates its calls' seconds as `decode`, as the tensor model's folded path timed them.
-IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame, DecodeTimings *timings = nullptr);
-/// The render of one view by the prior alone: encode_prior_scene, then render_with_gi. Throws for
-/// GlossyShading::head (the head is a network).
-NeuralRender render_prior(const ModelConfig &cfg, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt);
+/// The prior's Ê⁺ (nn/scene_frame.h prior_irradiance; with a skip w ≠ 0, folded_irradiance) as a
+/// decoder; shares the frame. `timings` (optional) accumulates its calls' seconds as `decode`, as the
+/// tensor model's folded path timed them.
+IrradianceDecoder prior_decoder(std::shared_ptr<const SceneFrame> frame, DecodeTimings *timings = nullptr, Vec3f skip = Vec3f(0.f));
+/// The render of one view by the prior alone (skip 0) or by a folded skip (PriorModel::skip):
+/// encode_prior_scene, then render_with_gi. Throws for GlossyShading::head (the head is a network).
+NeuralRender render_prior(const ModelConfig &cfg, const PathTracer &pt, const Camera &camera, const NeuralRenderOptions &opt,
+                          Vec3f skip = Vec3f(0.f));
 
 }  // namespace ltm

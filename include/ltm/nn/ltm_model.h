@@ -45,6 +45,10 @@ struct SceneNormalization {
     /// [M, 6] ModelConfig::traced_inputs: the traced E⁺ (columns 0–2) and the regathered prior (3–5)
     /// at every scene point, raw units (SceneFrame::traced, regathered); undefined without a tracer.
     torch::Tensor point_traced;
+    /// [M, 3] the traced E⁺ at every scene point, raw units, when the frame was made without the
+    /// per-point inputs (point_inputs false) but with a tracer: what a deferred encoder (a silent body
+    /// with a directional head: SceneLatents::Deferred) makes point_traced from later, with the regather.
+    torch::Tensor traced_light;
     /// ModelConfig::traced_queries: the transport re-emitting the traced light (SceneFrame::regather),
     /// gathered at the queries as their regathered prior (regathered_scale). Null without a tracer.
     std::shared_ptr<const TransportPrior> regather;
@@ -66,8 +70,10 @@ struct SceneLatents {
     /// The encoder's inputs when its run is deferred: a model with a silent body (at its prior, or
     /// with only the traced-queries skip) and a directional head (fold_prior), whose features only the head reads — and most frames never call it (a scene
     /// without conductors, `--glossy trace`). Shared, so copies of the latents compute them once.
+    /// The per-point inputs wait too (the prior and the regather gathered at all M points: most of a
+    /// traced model's encode), made when the head first asks (LtmModelImpl::encoder_inputs).
     struct Deferred {
-        torch::Tensor x, centers, groups;   ///< [M, 12, 15 or 21] normalised points (and inputs), the FPS centres and groups
+        torch::Tensor x, rows, centers, groups;   ///< [M, 12] normalised points, [M, 9] raw ones (p, n, albedo), the FPS centres and groups
         torch::Tensor features;             ///< [m, C] once computed
         std::mutex mutex;
     };
@@ -172,6 +178,12 @@ struct LtmModelImpl : torch::nn::Module {
     QueryDecoder decoder{nullptr};
     DirectionalDecoder directional{nullptr};   ///< null unless cfg.directional
     bool fused_inference = true;   ///< predict_irradiance on CPU uses FusedDecoder (false: libtorch modules)
+    /// The encoder's input rows: x [M, 12] (normalised points) with the prior's columns
+    /// (prior_inputs) and the traced ones (traced_inputs) from norm.point_prior and norm.point_traced;
+    /// where the frame was made without them (a deferred encoder), they are gathered now at the raw
+    /// points `rows` [M, 9] — the same receivers in the same order, so the same bits as scene_frame's.
+    ///   x [M, 12], rows [M, 9] -> [M, 12 + embedding.extra_inputs]
+    torch::Tensor encoder_inputs(torch::Tensor x, const torch::Tensor &rows, const SceneNormalization &norm) const;
     /// Constant folding of a silent body (decoder->body_silent(): 𝓦_out's last Linear exactly zero,
     /// as --start-at-prior leaves it): without autograd, encode() skips the embedding and encoder
     /// (features = zeros without a directional head; with one, deferred until the head asks:

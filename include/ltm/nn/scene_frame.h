@@ -94,5 +94,11 @@ float prior_gain();
 /// The model at its prior: Ê⁺ at raw query rows (p, n on the side the light is wanted, albedo; 9
 /// floats a row) = prior_scale · prior_gain().   rows [n, 9] -> out [n]
 void prior_irradiance(const SceneFrame &frame, const float *rows, size_t n, Vec3f *out);
+/// A silent body with a skip w (weights_file.h silent_body_skip), folded (LtmModelImpl::fold_prior):
+/// Ê⁺ = Ê · expm1(softplus(w ⊙ ln(R / Ê))) at query rows (raw, 9 floats a row), Ê and R the frame's
+/// prior and regather gathered in one walk (prior_scale_pair_normalized). The tensor model's
+/// arithmetic in float: equal to its output up to libm's and libtorch's last bits (tested to 1e-5).
+/// w = 0 is prior_irradiance. Throws without the frame's regather.   rows [n, 9] -> out [n]
+void folded_irradiance(const SceneFrame &frame, Vec3f skip, const float *rows, size_t n, Vec3f *out);
 
 }  // namespace ltm

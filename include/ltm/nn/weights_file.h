@@ -4,8 +4,10 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 
+#include "ltm/core/math.h"
 #include "ltm/nn/model_config.h"
 #include "ltm/points/safetensors.h"
 
@@ -28,5 +30,11 @@ WeightsFile read_weights_file(const std::string &path);
 /// shape than the config's, is refused ("path: ..."). The other tensors are not read: a model at its
 /// prior renders from its config alone (infer/prior_model.h).
 bool network_silenced(const WeightsFile &w, const std::string &path);
+/// The skip's weights w when the output layer is exactly zero (a silent body; (0, 0, 0) without a
+/// skip), nullopt when it is not (the network is active). A silent body with w ≠ 0 is the regathered
+/// prior softplus(w ⊙ ln(R / Ê)) · Ê at every query (LtmModelImpl::fold_prior), renderable without
+/// libtorch (infer/prior_model.h). Refuses what network_silenced refuses, a skip without
+/// traced_queries and a non-finite skip ("path: ...").
+std::optional<Vec3f> silent_body_skip(const WeightsFile &w, const std::string &path);
 
 }  // namespace ltm
