@@ -1,6 +1,7 @@
-// cmd_render_neural.cpp: `ltm render --method neural`. Weights whose network is silenced (the
-// shipped model: its prior) render without libtorch (infer/prior_model.h), in any build; an active
-// network, or its directional head, through the tensor model (libtorch builds).
+// cmd_render_neural.cpp: `ltm render --method neural`. Weights whose body is silent (at their prior,
+// or folded to the regathered prior by their skip: the shipped v0.14) render without libtorch
+// (infer/prior_model.h), in any build; an active network, or a directional head, through the tensor
+// model (libtorch builds).
 #include <chrono>
 #include <string>
 
@@ -24,7 +25,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     // What a user waits for besides the render itself (issue #31: the time before the first pixel).
     const double before_command = process_age_seconds();   // exec, libraries, static initialisers, CLI
     auto t = Clock::now();
-    PriorModel pm = load_prior_model(a.model);   // the config; whether its network is silenced
+    PriorModel pm = load_prior_model(a.model);   // the config; whether its body is silent (the prior, or folded)
     const GlossyShading glossy = parse_glossy_shading(a.glossy);
     if (glossy == GlossyShading::head && !pm.cfg.directional)
         LTM_THROW(a.model, ": --glossy head needs a directional head, and these weights have none (use --glossy trace or diffuse)");

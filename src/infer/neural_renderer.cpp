@@ -71,7 +71,7 @@ IrradianceDecoder model_irradiance(LtmModel &model, const SceneLatents &latents,
         const int64_t n = int64_t(rows.size() / 9);
         if (n == 0) return std::vector<Vec3f>{};
         PredictTimings t;
-        const auto e = model->predict_irradiance(rows_tensor(rows, 9), latents, 16384, &t);
+        const auto e = model->predict_irradiance(rows_tensor(rows, 9), latents, int64_t(k_decode_chunk), &t);
         if (timings) timings->knn += t.knn, timings->decode += t.decode;
         return rows_of(e, n, "model decoder");
     };

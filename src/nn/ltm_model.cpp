@@ -168,8 +168,13 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     out.norm = frame ? *frame
                      : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion), at_prior && !directional ? PointTracer{} : tracer,
                                    /*point_inputs=*/!fold);
-    if (fold && !at_prior && !out.norm.regather)
+    // Named here, not later: a fold with a skip reads the regather (a frame given by the trainer carries
+    // R at its queries instead), and a deferred head's encoder reads the traced light at the points.
+    if (!frame && fold && !at_prior && !out.norm.regather)
         LTM_THROW("model '", cfg.name, "' has traced queries: encoding a scene needs its path tracer (the regathered prior)");
+    if (!frame && fold && directional && cfg.traced_inputs > 0 && !out.norm.traced_light.defined() && !out.norm.point_traced.defined())
+        LTM_THROW("model '", cfg.name, "' has traced inputs (traced_inputs ", cfg.traced_inputs,
+                  "): encoding a scene needs its path tracer (its directional head's encoder reads them)");
     auto x = normalize_scene_points(scene_points, out.norm);
     out.anchors = x.slice(1, 0, 3).index_select(0, geometry.centers);            // [m, 3]
     if (cfg.decoder.level_points > 0) {

@@ -250,6 +250,10 @@ std::vector<float> normalized_queries(const SceneFrame &f, const float *rows, si
 }  // namespace
 
 void prior_irradiance(const SceneFrame &f, const float *rows, size_t n, Vec3f *out) {
+    if (n > k_decode_chunk) {   // as the tensor model's chunks (k_decode_chunk)
+        for (size_t s = 0; s < n; s += k_decode_chunk) prior_irradiance(f, rows + s * 9, std::min(k_decode_chunk, n - s), out + s);
+        return;
+    }
     const std::vector<float> q = normalized_queries(f, rows, n);
     prior_scale_normalized(f.transport.get(), f.output, q.data(), 9, n, out);
     const float g = prior_gain();
@@ -259,6 +263,10 @@ void prior_irradiance(const SceneFrame &f, const float *rows, size_t n, Vec3f *o
 void folded_irradiance(const SceneFrame &f, Vec3f skip, const float *rows, size_t n, Vec3f *out) {
     if (skip == Vec3f(0.f)) return prior_irradiance(f, rows, n, out);
     if (!f.transport || !f.regather) LTM_THROW("a folded skip needs the frame's transport prior and its regather (a tracer)");
+    if (n > k_decode_chunk) {
+        for (size_t s = 0; s < n; s += k_decode_chunk) folded_irradiance(f, skip, rows + s * 9, std::min(k_decode_chunk, n - s), out + s);
+        return;
+    }
     const std::vector<float> q = normalized_queries(f, rows, n);
     std::vector<Vec3f> r(n);
     prior_scale_pair_normalized(*f.transport, *f.regather, f.output, q.data(), 9, n, out, r.data());

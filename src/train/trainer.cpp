@@ -205,9 +205,10 @@ void Trainer::init_weights(const std::string &path) {
         // weight, so the model starts as the weights it came from (the prior features are finite).
         for (const auto &[name, own] : {std::pair{"embedding.f.0.weight", 12}, std::pair{"decoder.embed.0.weight", 9}}) {
             torch::Tensor &t = tensors.at(name);
-            if (t.dim() == 2 && t.size(1) == own) t = torch::cat({t, torch::zeros({t.size(0), 3}, t.options())}, 1);
+            if (t.dim() != 2 || t.size(1) != own) continue;   // another shape: load_state names it
+            t = torch::cat({t, torch::zeros({t.size(0), 3}, t.options())}, 1);
+            log_info(path, ": no prior inputs; ", name, " widened by 3 zero columns (the model starts as these weights)");
         }
-        log_info(path, ": no prior inputs; embedding.f.0.weight and decoder.embed.0.weight widened by 3 zero columns (the model starts as these weights)");
         prior_inputs = true;
     }
     if (m_model_cfg.traced_inputs > 0 && w->cfg.traced_inputs == 0 && prior_inputs) {

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <utility>
@@ -620,8 +621,12 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
 void gather_transport_prior_pair(const TransportPrior &prior, const TransportPrior &also, const float *position, const float *normal,
                                  size_t stride, size_t n, float *out, float *also_out) {
     // The rows are prior's: `also` must be the same nodes, tree, near field and rays with another exitance.
-    if (also.tree != prior.tree || also.exitance.size() != prior.exitance.size() || also.position.size() != prior.position.size() ||
-        also.patches != prior.patches || also.rays.occlusion != prior.rays.occlusion || also.rays.closure_rays != prior.rays.closure_rays ||
+    const auto same = [](const std::vector<Vec3f> &a, const std::vector<Vec3f> &b) {
+        return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3f)) == 0);
+    };
+    if (also.tree != prior.tree || also.exitance.size() != prior.exitance.size() || !same(also.position, prior.position) ||
+        !same(also.normal, prior.normal) || also.area != prior.area || also.patches != prior.patches ||
+        also.rays.occlusion != prior.rays.occlusion || also.rays.closure_rays != prior.rays.closure_rays ||
         also.visibility.size() != prior.visibility.size())
         LTM_THROW("transport prior: a paired gather needs a copy of the prior with another exitance (the same nodes, tree and visibility)");
     gather_rows(prior, &also, position, normal, stride, n, out, nullptr, also_out);

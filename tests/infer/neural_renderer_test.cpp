@@ -260,14 +260,17 @@ TEST(NeuralRenderer, PriorRenderWithoutTorchIsTheTensorModelAtItsPrior) {
     EXPECT_THROW(render_prior(model->cfg, pt, cam, head), Error);
 }
 
-// A silent body with a skip (the regathered prior as weights, models/README.md): the file reads as
-// folded, not silenced, and rendered without libtorch (render_prior with the file's skip) it is the
-// tensor model's fold to float rounding (libm against libtorch's log, exp); the skip moves it off the
-// prior alone; a config without traced inputs cannot fold a skip.
+// A silent body with a skip (the regathered prior as weights: v0.14): the file reads as folded, not
+// silenced, and rendered without libtorch (render_prior with the file's skip) it is the tensor model's
+// fold to float rounding (libm against libtorch's log, exp) — with the prior's visibility by rays, whose
+// neighbouring receivers share answers within a gather call, over more pixels than one chunk
+// (k_decode_chunk: both paths gather alike); the skip moves it off the prior alone; a config without
+// traced inputs cannot fold a skip.
 TEST(NeuralRenderer, AFoldedSkipWithoutTorchIsTheTensorModelsFold) {
     Room r;
     ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny-pi.json"));
     cfg.traced_inputs = 4, cfg.traced_queries = true;
+    cfg.physics.prior_rays = true, cfg.physics.prior_theta = 0.5f;
     torch::manual_seed(5);
     LtmModel model(cfg);
     model->eval();
@@ -282,10 +285,11 @@ TEST(NeuralRenderer, AFoldedSkipWithoutTorchIsTheTensorModelsFold) {
     EXPECT_FALSE(pm.silenced);
     EXPECT_TRUE(pm.folded && pm.torch_free());
     EXPECT_TRUE(pm.skip == Vec3f(0.7f, 1.f, 1.3f));
-    const Camera cam = Room::view(24);
+    const Camera cam = Room::view(132);   // 17 424 pixels, every one decoded: two chunks
     NeuralRenderOptions opt;
-    opt.direct_spp = 4, opt.seed = 3, opt.glossy = GlossyShading::diffuse;
+    opt.direct_spp = 1, opt.seed = 3, opt.glossy = GlossyShading::diffuse, opt.gi.stride = 1, opt.gi.levels = 1;
     const NeuralRender a = render_neural(model, r.pt, cam, opt), b = render_prior(pm.cfg, r.pt, cam, opt, pm.skip);
+    ASSERT_GT(a.n_decoded, int64_t(k_decode_chunk));
     const NeuralRender prior = render_prior(pm.cfg, r.pt, cam, opt);
     ASSERT_EQ(a.n_decoded, b.n_decoded);
     double worst = 0, moved = 0;

@@ -740,6 +740,28 @@ TEST(Trainer, PriorInputsStartAsTheWeightsTheyWiden) {
     EXPECT_NEAR(b.validate(), before, 1e-6 * std::abs(before)) << "the widened model is the model it came from";
 }
 
+// Fine-tuning from a folded file (v0.14's shape: a silent body and a nonzero skip): the draws' cached
+// frames carry R at their queries, not the regather, and validation and a step run as from any file.
+TEST(Trainer, AFoldedFileFineTunes) {
+    test::TempDir dir;
+    ModelConfig queries = tiny_with_prior_inputs();
+    queries.traced_inputs = 2, queries.traced_queries = true;
+    double before = 0;
+    {
+        Trainer a(queries, small_train(0), {dataset_dir()}, dir.path("a"));
+        torch::NoGradGuard g;
+        for (auto &t : a.model()->decoder->output_parameters()) t.zero_();
+        a.model()->decoder->skip.fill_(0.9f);
+        ASSERT_TRUE(a.model()->decoder->body_silent());
+        before = a.validate();
+        save_weights(dir.path("folded.safetensors"), a.model());
+    }
+    Trainer b(queries, small_train(1), {dataset_dir()}, dir.path("b"));
+    b.init_weights(dir.path("folded.safetensors"));
+    EXPECT_NEAR(b.validate(), before, 1e-6 * std::abs(before));
+    EXPECT_NO_THROW(b.run(false));
+}
+
 // --init from weights with a directional head into a config without one (the traced presets, whose
 // draws cannot train a head): the head's tensors are left out and the irradiance model is the same.
 TEST(Trainer, InitIntoAConfigWithoutTheHeadLeavesTheHeadOut) {

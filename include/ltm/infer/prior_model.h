@@ -1,8 +1,10 @@
-// prior_model.h: a model at its prior, rendered without libtorch. A weights file whose network is
-// silenced (its decoder's output layer zero, and its skip if it has one: the shipped model) predicts its closed-form prior at
-// every query (nn/scene_frame.h), so sampling its scene points, solving its frame and gathering the
-// prior is the whole model: the same numbers as the tensor model (infer/neural_renderer.h), which a
-// test holds together, without loading libtorch. Also the model's point options (`--scene-points`,
+// prior_model.h: a model whose body is silent, rendered without libtorch. A weights file whose
+// network is silenced (its decoder's output layer zero, and its skip if it has one) predicts its
+// closed-form prior at every query (nn/scene_frame.h); one whose output layer is zero but whose skip
+// is not (folded: the shipped v0.14) predicts its regathered prior through the skip
+// (folded_irradiance). Either way sampling its scene points, solving (and tracing) its frame and
+// gathering is the whole model: the same numbers as the tensor model (infer/neural_renderer.h), which
+// tests hold together, without loading libtorch. Also the model's point options (`--scene-points`,
 // `--prior-theta`, `--prior-rays`), which only change its config.
 #pragma once
 

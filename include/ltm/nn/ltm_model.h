@@ -40,7 +40,8 @@ struct SceneNormalization {
     /// E⁺ = prior(query) · expm1(z) instead of output · expm1(z). Null for the "flat" prior.
     std::shared_ptr<const TransportPrior> transport;
     /// [M, 3] the prior at every scene point (output_scale of the points as queries, raw units):
-    /// the encoder's prior inputs (ModelConfig::prior_inputs; LtmModelImpl::scene_frame sets it).
+    /// the encoder's prior inputs (ModelConfig::prior_inputs; LtmModelImpl::scene_frame sets it with
+    /// point_inputs or decoder.level_points; a deferred encoder gathers it when it runs).
     torch::Tensor point_prior;
     /// [M, 6] ModelConfig::traced_inputs: the traced E⁺ (columns 0–2) and the regathered prior (3–5)
     /// at every scene point, raw units (SceneFrame::traced, regathered); undefined without a tracer.
@@ -50,7 +51,8 @@ struct SceneNormalization {
     /// with a directional head: SceneLatents::Deferred) makes point_traced from later, with the regather.
     torch::Tensor traced_light;
     /// ModelConfig::traced_queries: the transport re-emitting the traced light (SceneFrame::regather),
-    /// gathered at the queries as their regathered prior (regathered_scale). Null without a tracer.
+    /// gathered at the queries as their regathered prior (regathered_scale); also kept without traced
+    /// queries when the per-point inputs wait for a deferred encoder. Null without a tracer.
     std::shared_ptr<const TransportPrior> regather;
     /// Seconds the traced inputs took (tracing and regather; part of the encode, not of the prior).
     double trace_seconds = 0;
@@ -156,7 +158,7 @@ struct LtmModelImpl : torch::nn::Module {
     /// kernel tiles internally, so large chunks cost nothing and avoid per-chunk thread start-up;
     /// the libtorch path prefers ~1024 (its [chunk, κ, D] temporaries then stay in cache).
     torch::Tensor predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,
-                                     int64_t chunk = 16384, PredictTimings *timings = nullptr);
+                                     int64_t chunk = int64_t(k_decode_chunk), PredictTimings *timings = nullptr);
     /// The directional head (cfg.directional): z at (query, direction) pairs, kNN among the
     /// anchors computed here. Throws ltm::Error when the model has no directional head.
     ///   query_points [N, 9] raw, direction [N, 3] unit (world frame) -> z [N, 3] >= 0
@@ -189,10 +191,12 @@ struct LtmModelImpl : torch::nn::Module {
     /// (features = zeros without a directional head; with one, deferred until the head asks:
     /// SceneLatents::Deferred) and predict_irradiance() skips kNN and the decoder, whose output is
     /// then softplus(skip ⊙ ln(R / Ê)) whatever the latents. At the prior (no skip, or a zero one:
-    /// decoder->at_prior()) that is softplus(0), and nothing is traced; with a skip (the regathered
-    /// prior through its learned weights) the scene is traced for R, and PTv3, the encoder's per-point
-    /// inputs and the attention are saved. Same numbers as the network path; ~1.5 s less per 512² frame at the prior, 2 s
-    /// with a skip (docs/performance.md, session 38). false: always run the network.
+    /// decoder->at_prior()) that is softplus(0), and nothing is traced unless a directional head's
+    /// encoder may need the traced inputs; with a skip (the regathered prior through its weights: the
+    /// shipped v0.14) the scene is traced for R, and PTv3, the encoder's per-point inputs (until a head
+    /// asks) and the attention are saved. Same numbers as the network path; ~1.5 s less per 512² frame
+    /// at the prior, 2 s with a skip (docs/performance.md, sessions 38–39). The trainer's draws (a
+    /// given frame) carry R at their queries instead of the regather. false: always run the network.
     bool fold_prior = true;
 };
 TORCH_MODULE(LtmModel);

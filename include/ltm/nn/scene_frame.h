@@ -71,6 +71,12 @@ SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const P
                              const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {},
                              const PointTracer &tracer = {}, bool point_inputs = true);
 
+/// Queries per gather call when a model decodes (LtmModelImpl::predict_irradiance's chunk, and the
+/// torch-free prior_irradiance and folded_irradiance): with the prior's visibility by rays,
+/// neighbouring receivers of one call share ray answers, so the two paths chunk alike to give the
+/// same numbers.
+inline constexpr size_t k_decode_chunk = 16384;
+
 /// The prior that the model's output multiplies, at query rows already in the normalised frame
 /// ((p − centre)/ℓ, n, albedo: `stride` floats a row): the transport prior's gather floored at
 /// 10⁻³ · output (a query that faces no node keeps a finite frame), or `output` for the flat prior
@@ -98,7 +104,8 @@ void prior_irradiance(const SceneFrame &frame, const float *rows, size_t n, Vec3
 /// Ê⁺ = Ê · expm1(softplus(w ⊙ ln(R / Ê))) at query rows (raw, 9 floats a row), Ê and R the frame's
 /// prior and regather gathered in one walk (prior_scale_pair_normalized). The tensor model's
 /// arithmetic in float: equal to its output up to libm's and libtorch's last bits (tested to 1e-5).
-/// w = 0 is prior_irradiance. Throws without the frame's regather.   rows [n, 9] -> out [n]
+/// w = 0 is prior_irradiance. Both gather k_decode_chunk rows a call. Throws without the frame's
+/// regather.   rows [n, 9] -> out [n]
 void folded_irradiance(const SceneFrame &frame, Vec3f skip, const float *rows, size_t n, Vec3f *out);
 
 }  // namespace ltm

@@ -1,6 +1,7 @@
 // weights_file.h: an `ltm export` weights file read without libtorch — its format checks, its model
-// config, and whether its network is silenced (its decoder's output layer zero). The tensor model's load_weights (nn/checkpoint.h)
-// reads through it; a render of a model at its prior (infer/prior_model.h) needs nothing more.
+// config, and whether its body is silent (its decoder's output layer zero) and with what skip. The
+// tensor model's load_weights (nn/checkpoint.h) reads through it; a render of a silent body
+// (infer/prior_model.h) needs nothing more.
 #pragma once
 
 #include <map>

@@ -131,7 +131,8 @@ void gather_transport_prior(const TransportPrior &prior, const float *position, 
 /// regather, nn/scene_frame.cpp) — in one pass: each receiver's row is walked, and with rays its
 /// closure and its terms traced, once for both. out and also_out [n, 3]: bit for bit what
 /// gather_transport_prior gives for each alone. Throws when `also` is not such a copy (another tree,
-/// node count, near field, rays or cluster count).
+/// other nodes or node area, near field, rays or cluster count; the clusters' visibility itself is
+/// not compared).
 void gather_transport_prior_pair(const TransportPrior &prior, const TransportPrior &also, const float *position, const float *normal,
                                  size_t stride, size_t n, float *out, float *also_out);
 
