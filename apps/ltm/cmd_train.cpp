@@ -43,7 +43,7 @@ std::vector<std::string> rank_args(const TrainArgs &a, const CommonOptions &comm
     if (!a.head.empty()) v.insert(v.end(), {"--head", a.head});
     if (!a.freeze.empty()) v.insert(v.end(), {"--freeze", a.freeze});
     if (!a.frame_cache.empty()) v.insert(v.end(), {"--frame-cache", a.frame_cache});
-    if (a.steps > 0) v.insert(v.end(), {"--steps", std::to_string(a.steps)});
+    if (a.steps >= 0) v.insert(v.end(), {"--steps", std::to_string(a.steps)});
     if (a.resume) v.push_back("--resume");
     if (a.start_at_prior) v.push_back("--start-at-prior");
     if (common.quiet) v.push_back("--quiet");
@@ -118,7 +118,8 @@ void run(const TrainArgs &a, const CommonOptions &common) {
     if (dist.rank != 0 && !common.verbose) set_log_level(LogLevel::quiet);
     Json cfg = a.config.empty() ? Json(TrainConfig{}.to_json()) : parse_json_file(a.config);
     cfg["seed"] = common.seed;
-    if (a.steps > 0) cfg["steps"] = a.steps;
+    // Given, it is checked as --set steps=N is (0 is an error, not "the default"): -1 means not given.
+    if (a.steps >= 0) cfg["steps"] = a.steps;
     if (!a.head.empty()) cfg["head"] = a.head;
     if (!a.freeze.empty()) cfg["freeze"] = a.freeze;
     for (const auto &o : a.overrides) apply_json_override(cfg, o);

@@ -163,6 +163,11 @@ TEST(Cli, DatasetTrainExportInfoSmoke) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("auto_scene_points off for training"), std::string::npos) << r.err;
     EXPECT_EQ(read_file(dir.path("run-auto/model.json")).find("auto_scene_points"), std::string::npos);
+    // --steps 0 is refused as --set steps=0 is, in one line: not read as "not given" (20 000 steps).
+    r = run({"train", "--init", auto_weights, "--data", data, "--out", dir.path("run-zero"), "--steps", "0"});
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find("steps"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("run-zero/step-0.ltmckpt"))) << "nothing trained";
     // A model whose M does not match the records is refused with the preset named.
     r = run({"train", "--model", test::source_path("configs/model/cpu.json"), "--data", data, "--out", dir.path("run2")});
     EXPECT_EQ(r.code, 1);
