@@ -28,8 +28,7 @@ PriorModel load_prior_model(const std::string &path) {
     m.metadata = w.file.metadata;
     const std::optional<Vec3f> skip = silent_body_skip(w, path);
     m.silenced = skip && *skip == Vec3f(0.f);
-    m.folded = skip && !m.silenced;
-    if (m.folded) m.skip = *skip;
+    if (skip) m.skip = *skip;
     return m;
 }
 

@@ -20,15 +20,20 @@
 namespace ltm {
 
 namespace {
+// norm.output [3] as the gathers' floor scale.
+Vec3f output_vec3(const SceneNormalization &norm) {
+    const auto o = norm.output.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    return Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>());
+}
+
 // A transport (the prior or its regather) gathered at queries in the normalised frame and floored
 // at 10⁻³ · norm.output (prior_scale_normalized).   q [N, 9] -> [N, 3]
 torch::Tensor gathered_normalized(const torch::Tensor &q, const TransportPrior &transport, const SceneNormalization &norm) {
     torch::NoGradGuard no_grad;
     const auto qc = q.detach().to(torch::kCPU, torch::kFloat32).contiguous();
     auto out = torch::empty({qc.size(0), 3}, torch::kFloat32);
-    const auto o = norm.output.detach().to(torch::kCPU, torch::kFloat32).contiguous();
-    prior_scale_normalized(&transport, Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>()), qc.data_ptr<float>(), 9,
-                           size_t(qc.size(0)), reinterpret_cast<Vec3f *>(out.data_ptr<float>()));
+    prior_scale_normalized(&transport, output_vec3(norm), qc.data_ptr<float>(), 9, size_t(qc.size(0)),
+                           reinterpret_cast<Vec3f *>(out.data_ptr<float>()));
     return out.to(norm.output.device());
 }
 
@@ -408,10 +413,9 @@ std::pair<torch::Tensor, torch::Tensor> prior_and_regathered(const torch::Tensor
     if (!norm.regather) LTM_THROW("the scene's frame has no regathered prior (it was made without the scene's path tracer)");
     torch::NoGradGuard no_grad;
     const auto q = normalize_query_points(query_points.to(norm.output.device()), norm).detach().to(torch::kCPU, torch::kFloat32).contiguous();
-    const auto o = norm.output.detach().to(torch::kCPU, torch::kFloat32).contiguous();
     auto scale = torch::empty({q.size(0), 3}, torch::kFloat32), regathered = torch::empty({q.size(0), 3}, torch::kFloat32);
-    prior_scale_pair_normalized(*norm.transport, *norm.regather, Vec3f(o[0].item<float>(), o[1].item<float>(), o[2].item<float>()),
-                                q.data_ptr<float>(), 9, size_t(q.size(0)), reinterpret_cast<Vec3f *>(scale.data_ptr<float>()),
+    prior_scale_pair_normalized(*norm.transport, *norm.regather, output_vec3(norm), q.data_ptr<float>(), 9, size_t(q.size(0)),
+                                reinterpret_cast<Vec3f *>(scale.data_ptr<float>()),
                                 reinterpret_cast<Vec3f *>(regathered.data_ptr<float>()));
     return {scale.to(norm.output.device()), regathered.to(norm.output.device())};
 }

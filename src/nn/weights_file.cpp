@@ -88,9 +88,4 @@ std::optional<Vec3f> silent_body_skip(const WeightsFile &w, const std::string &p
     return weights;
 }
 
-bool network_silenced(const WeightsFile &w, const std::string &path) {
-    const std::optional<Vec3f> skip = silent_body_skip(w, path);
-    return skip && *skip == Vec3f(0.f);
-}
-
 }  // namespace ltm

@@ -283,7 +283,7 @@ TEST(NeuralRenderer, AFoldedSkipWithoutTorchIsTheTensorModelsFold) {
     save_weights(dir.path("folded.safetensors"), model);
     const PriorModel pm = load_prior_model(dir.path("folded.safetensors"));
     EXPECT_FALSE(pm.silenced);
-    EXPECT_TRUE(pm.folded && pm.torch_free());
+    EXPECT_TRUE(pm.folded() && pm.torch_free());
     EXPECT_TRUE(pm.skip == Vec3f(0.7f, 1.f, 1.3f));
     const Camera cam = Room::view(132);   // 17 424 pixels, every one decoded: two chunks
     NeuralRenderOptions opt;

@@ -25,13 +25,16 @@ struct PriorModel {
     ModelConfig cfg;
     std::string path;
     std::map<std::string, std::string> metadata;
-    bool silenced = false;   ///< the network is silenced (nn/weights_file.h network_silenced): the model is its prior
-    /// A silent body with a skip (nn/weights_file.h silent_body_skip): the model is its regathered
-    /// prior through the skip's weights `skip` (folded_irradiance), also without libtorch.
-    bool folded = false;
+    /// The network is silenced (nn/weights_file.h silent_body_skip: a silent body, no skip or a zero
+    /// one): the model is its prior.
+    bool silenced = false;
+    /// A silent body's nonzero skip (silent_body_skip); zero otherwise, and always for an active network.
     Vec3f skip{0.f};
+    /// A silent body with a skip: the model is its regathered prior through `skip` (folded_irradiance),
+    /// also without libtorch.
+    bool folded() const { return !(skip == Vec3f(0.f)); }
     /// Renderable without the network: the prior alone, or the folded skip.
-    bool torch_free() const { return silenced || folded; }
+    bool torch_free() const { return silenced || folded(); }
 };
 /// Reads and checks the file as load_model does (one-line "path: ..." errors).
 PriorModel load_prior_model(const std::string &path);

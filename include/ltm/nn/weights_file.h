@@ -25,17 +25,14 @@ struct WeightsFile {
 /// a valid config, tensors of F32 or F16. Throws "path: ..." naming what is wrong.
 WeightsFile read_weights_file(const std::string &path);
 
-/// True when the decoder's output layer (the last "decoder.out.<i>" Linear) and, with
-/// traced_queries, its skip ("decoder.skip") are exactly zero: the network is silenced and the model is its closed-form prior wherever it is asked
-/// (QueryDecoder::at_prior, --start-at-prior). A file without that layer, or with it in another
-/// shape than the config's, is refused ("path: ..."). The other tensors are not read: a model at its
-/// prior renders from its config alone (infer/prior_model.h).
-bool network_silenced(const WeightsFile &w, const std::string &path);
-/// The skip's weights w when the output layer is exactly zero (a silent body; (0, 0, 0) without a
-/// skip), nullopt when it is not (the network is active). A silent body with w ≠ 0 is the regathered
-/// prior softplus(w ⊙ ln(R / Ê)) · Ê at every query (LtmModelImpl::fold_prior), renderable without
-/// libtorch (infer/prior_model.h). Refuses what network_silenced refuses, a skip without
-/// traced_queries and a non-finite skip ("path: ...").
+/// The skip's weights w ("decoder.skip") when the decoder's output layer (the last "decoder.out.<i>"
+/// Linear) is exactly zero — a silent body; (0, 0, 0) without a skip —, nullopt when it is not (the
+/// network is active). w = 0: the network is silenced and the model is its closed-form prior wherever
+/// it is asked (QueryDecoder::at_prior, --start-at-prior); w ≠ 0: the regathered prior
+/// softplus(w ⊙ ln(R / Ê)) · Ê at every query (LtmModelImpl::fold_prior). Either renders from the
+/// config and these tensors alone, without libtorch (infer/prior_model.h). A file without that layer,
+/// or with it in another shape than the config's, a skip without traced_queries (or missing with it)
+/// and a non-finite skip are refused ("path: ...").
 std::optional<Vec3f> silent_body_skip(const WeightsFile &w, const std::string &path);
 
 }  // namespace ltm

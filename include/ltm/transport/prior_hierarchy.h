@@ -259,9 +259,9 @@ private:
     };
     template <class Sink> struct Terms;
     template <class Sink> struct RayFilter;
-    /// The walk of count ≤ k_group receivers (one alone: count 1) that visit's callbacks record.
     /// One walk of a group of receivers, its terms summed by `sink` (gather_group, gather_group2).
     template <class Sink> void walk_sums(const Receiver *receivers, int count, Sink &sink, Scratch &scratch) const;
+    /// The walk of count ≤ k_group receivers (one alone: count 1) that visit's callbacks record.
     template <class Visit> void traverse(const Receiver *receivers, int count, std::vector<Entry> &stack, Visit &&visit) const;
     int32_t build(uint32_t lo, uint32_t hi, std::vector<uint32_t> &items, bool clusters, const std::vector<Vec3f> &pos,
                   const std::vector<Vec3f> &nrm);
