@@ -109,7 +109,7 @@ void run(const BakeGiArgs &a, const CommonOptions &common) {
         }
 #endif
         if (!decoded) {
-            const PriorScene ps = encode_prior_scene(cfg, accel, common.seed, true, m->prior.folded());
+            const PriorScene ps = encode_prior_scene(cfg, accel, common.seed, true, m->prior.skip);
             indirect = decode_gbuffer(prior_decoder(std::make_shared<const SceneFrame>(ps.frame), nullptr, m->prior.skip), gb);
         }
         // Direct light as `ltm render --method neural` computes it (ratio estimator when every

@@ -98,7 +98,7 @@ PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &acce
     };
 }
 
-PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed, bool regather) {
+PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed, Vec3f skip) {
     // The steps of the tensor model's encode_scene (infer/neural_renderer.h), on plain arrays.
     PriorScene s;
     auto t = Clock::now();
@@ -117,9 +117,12 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
     s.geometry_seconds = seconds_since(t);
     t = Clock::now();
     // physics.prior_rays: the prior's visibility by rays against this scene's meshes.
-    // regather: the traced paths and the regather for the queries only (no encoder reads the points').
+    // A folded skip: the traced paths and the regather for the queries only (no encoder reads the
+    // points'); at w = 1 without the prior's bounces (R alone is read).
+    const bool regather = !(skip == Vec3f(0.f));
     s.frame = solve_scene_frame(s.points.values.data(), m, groups, cfg.physics, &sampled.emission_scale, prior_occlusion(cfg, accel),
-                                regather ? traced_inputs_tracer(cfg, accel) : PointTracer{}, /*point_inputs=*/false);
+                                regather ? traced_inputs_tracer(cfg, accel) : PointTracer{}, /*point_inputs=*/false,
+                                /*regather_only=*/skip == Vec3f(1.f));
     s.encode_seconds = seconds_since(t);
     log_debug("scene frame: length unit ℓ = ", s.frame.length, ", emission scale S = ", s.frame.emission, ", output scale = ", s.frame.output);
     return s;
@@ -141,7 +144,7 @@ NeuralRender render_prior(const ModelConfig &cfg, const PathTracer &pt, const Ca
     const auto t0 = Clock::now();
     const bool folded = !(skip == Vec3f(0.f));
     if (folded && cfg.traced_inputs <= 0) LTM_THROW("neural render: a folded skip needs the model's traced inputs (traced_inputs)");
-    PriorScene scene = encode_prior_scene(cfg, pt.accel(), opt.seed, opt.exclude_enclosed, folded);
+    PriorScene scene = encode_prior_scene(cfg, pt.accel(), opt.seed, opt.exclude_enclosed, skip);
     const auto frame = std::make_shared<const SceneFrame>(std::move(scene.frame));
     DecodeTimings timings;
     GiSource src;

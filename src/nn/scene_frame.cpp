@@ -76,7 +76,7 @@ std::vector<float> normalized_points(const float *sp, size_t n_points, const Sce
 
 std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_points, const PointGroups &groups, const SceneFrame &f,
                                                       const PhysicsConfig &physics, std::shared_ptr<const SegmentOcclusion> occlusion,
-                                                      bool &every_point) {
+                                                      int bounces, bool &every_point) {
     PointSet all;
     all.columns = scene_point_columns();
     all.values = normalized_points(sp, n_points, f);
@@ -114,7 +114,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_
     }
     const Vec3f s = f.emission;
     return std::make_shared<const TransportPrior>(
-        solve_transport_prior(*nodes, float(area), physics.prior_bounces, &s, vis, &all,
+        solve_transport_prior(*nodes, float(area), bounces, &s, vis, &all,
                               physics.prior_balance == "none"   ? PriorBalance::none
                               : physics.prior_balance == "grey" ? PriorBalance::grey
                                                                 : PriorBalance::per_channel,
@@ -155,8 +155,10 @@ void trace_and_regather(const float *sp, size_t n_points, const PointGroups &gro
 
 SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
                              const Vec3f *emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer,
-                             bool point_inputs) {
+                             bool point_inputs, bool regather_only) {
     if (n_points == 0) LTM_THROW("scene points: none");
+    if (regather_only && (!tracer || point_inputs || physics.prior_field != "transport"))
+        LTM_THROW("scene frame: regather_only needs a tracer and the transport prior, and no per-point inputs (they read the prior)");
     for (size_t i = 0; i < n_points * 12; ++i)
         if (!std::isfinite(sp[i])) LTM_THROW("scene points contain NaN or Inf");
     for (size_t i = 0; i < n_points; ++i)
@@ -202,7 +204,11 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
         if (physics.prior_bounces > 0) f.output = f.emission * power_balance_factor(column_mean(sp, n_points, 6), physics.prior_bounces);
         if (physics.prior_field == "transport") {
             const auto t = std::chrono::steady_clock::now();
-            f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion), nodes_are_points);
+            // Regather only: the nodes, tree, rays and near field the regather gathers through, without
+            // the prior's bounces (its first walks from every node are most of the solve's time).
+            f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion), regather_only ? 0 : physics.prior_bounces,
+                                          nodes_are_points);
+            f.prior_solved = !regather_only;
             f.solve_seconds = seconds_since(t);
         }
     }
@@ -254,6 +260,7 @@ void prior_irradiance(const SceneFrame &f, const float *rows, size_t n, Vec3f *o
         for (size_t s = 0; s < n; s += k_decode_chunk) prior_irradiance(f, rows + s * 9, std::min(k_decode_chunk, n - s), out + s);
         return;
     }
+    if (!f.prior_solved) LTM_THROW("the prior at queries: this frame was solved for its regather alone (no prior bounces)");
     const std::vector<float> q = normalized_queries(f, rows, n);
     prior_scale_normalized(f.transport.get(), f.output, q.data(), 9, n, out);
     const float g = prior_gain();
@@ -268,6 +275,12 @@ void folded_irradiance(const SceneFrame &f, Vec3f skip, const float *rows, size_
         return;
     }
     const std::vector<float> q = normalized_queries(f, rows, n);
+    if (skip == Vec3f(1.f)) {
+        // Ê · expm1(softplus(ln(R/Ê))) = R (both floored): the prior cancels, so it is not gathered.
+        prior_scale_normalized(f.regather.get(), f.output, q.data(), 9, n, out);
+        return;
+    }
+    if (!f.prior_solved) LTM_THROW("a folded skip w != 1 reads the prior, and this frame was solved for its regather alone");
     std::vector<Vec3f> r(n);
     prior_scale_pair_normalized(*f.transport, *f.regather, f.output, q.data(), 9, n, out, r.data());
     for (size_t i = 0; i < n; ++i)

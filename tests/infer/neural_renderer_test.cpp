@@ -306,6 +306,52 @@ TEST(NeuralRenderer, AFoldedSkipWithoutTorchIsTheTensorModelsFold) {
     EXPECT_THROW(render_prior(untraced, r.pt, cam, opt, pm.skip), Error);
 }
 
+// At w = 1 the fold is R: Ê · expm1(softplus(ln(R/Ê))) = R, so the torch-free path solves the frame for
+// its regather alone (no prior bounces, SceneFrame::prior_solved false) and gathers R alone — the tensor
+// model's fold through the full solve to float rounding. Such a frame refuses the prior and any other skip.
+TEST(NeuralRenderer, AFoldAtOneIsTheRegatherWithoutThePriorsBounces) {
+    Room r;
+    ModelConfig cfg = ModelConfig::from_file(test::source_path("configs/model/tiny-pi.json"));
+    cfg.traced_inputs = 4, cfg.traced_queries = true;
+    cfg.physics.prior_rays = true, cfg.physics.prior_theta = 0.5f;
+    torch::manual_seed(5);
+    LtmModel model(cfg);
+    model->eval();
+    model->decoder->start_at_prior();
+    {
+        torch::NoGradGuard g;
+        model->decoder->skip.fill_(1.f);
+    }
+    test::TempDir dir;
+    save_weights(dir.path("one.safetensors"), model);
+    const PriorModel pm = load_prior_model(dir.path("one.safetensors"));
+    ASSERT_TRUE(pm.skip == Vec3f(1.f));
+    const Camera cam = Room::view(132);   // two chunks, as above
+    NeuralRenderOptions opt;
+    opt.direct_spp = 1, opt.seed = 3, opt.glossy = GlossyShading::diffuse, opt.gi.stride = 1, opt.gi.levels = 1;
+    const NeuralRender a = render_neural(model, r.pt, cam, opt), b = render_prior(pm.cfg, r.pt, cam, opt, pm.skip);
+    ASSERT_EQ(a.n_decoded, b.n_decoded);
+    double worst = 0, level = 0;
+    for (size_t i = 0; i < a.image.irradiance.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double x = b.image.irradiance.pixels[i][c];
+            worst = std::max(worst, std::abs(double(a.image.irradiance.pixels[i][c]) - x) / (x + 1e-12));
+            level += x;
+        }
+    EXPECT_GT(level, 0.0);
+    EXPECT_LT(worst, 1e-5) << "relative, at the worst pixel";
+    const PriorScene ps = encode_prior_scene(pm.cfg, r.pt.accel(), opt.seed, true, pm.skip);
+    EXPECT_FALSE(ps.frame.prior_solved);
+    ASSERT_TRUE(ps.frame.regather);
+    for (const Vec3f &e : ps.frame.transport->exitance) ASSERT_EQ(e, Vec3f(0.f)) << "the prior's bounces were solved";
+    const std::vector<float> q(ps.points.values.begin(), ps.points.values.begin() + 9);   // a scene point's p, n, ρ as a query
+    Vec3f out;
+    EXPECT_NO_THROW(folded_irradiance(ps.frame, Vec3f(1.f), q.data(), 1, &out));
+    EXPECT_THROW(prior_irradiance(ps.frame, q.data(), 1, &out), Error);
+    EXPECT_THROW(folded_irradiance(ps.frame, Vec3f(0.7f, 1.f, 1.f), q.data(), 1, &out), Error);
+    EXPECT_TRUE(encode_prior_scene(pm.cfg, r.pt.accel(), opt.seed, true, Vec3f(0.7f, 1.f, 1.f)).frame.prior_solved);
+}
+
 // The node field holds each scene point's own decoded value: a decoder that answers each query
 // row with its position gives every point its own position back (the group_order permutation
 // and its inverse), and a point set without the query columns is refused.

@@ -86,10 +86,12 @@ struct PriorScene {
 /// The occlusion the prior traces against when physics.prior_rays is set (the scene's meshes;
 /// `accel` must outlive the frame); null otherwise.
 std::shared_ptr<const SegmentOcclusion> prior_occlusion(const ModelConfig &cfg, const EmbreeAccel &accel);
-/// regather: also trace the scene points and regather the prior (SceneFrame::regather, for a folded
-/// skip), as the tensor model's folded encode does (the same tracer and seed: the same numbers).
+/// skip ≠ 0 (a folded skip, PriorModel::skip): also trace the scene points and regather the prior
+/// (SceneFrame::regather), as the tensor model's folded encode does (the same tracer and seed: the
+/// same numbers); skip = 1 in every channel reads R alone, so the prior's bounces are not solved
+/// (solve_scene_frame's regather_only: the frame serves folded_irradiance at that skip only).
 PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true,
-                              bool regather = false);
+                              Vec3f skip = Vec3f(0.f));
 /// The tracer of a model's traced inputs (ModelConfig::traced_inputs strata per scene point) in this
 /// scene: its own random streams (k_traced_inputs_seed, never a reference's or a record's), `accel`
 /// must outlive it; empty when the model has none.

@@ -57,6 +57,10 @@ struct SceneFrame {
     /// the queries). Null without a tracer.
     std::shared_ptr<const TransportPrior> regather;
     double trace_seconds = 0;   ///< the tracing's and regather's share of the frame's time
+    /// false: solved for the regather alone (solve_scene_frame's regather_only): `transport` holds
+    /// the nodes, tree, rays and near field the regather gathers through, but not the prior's
+    /// bounces (its exitance is 0), so only the regather may be gathered (folded_irradiance at w = 1).
+    bool prior_solved = true;
 };
 
 /// The frame of scene points [M, 12] (scene_point_columns(): p, n, albedo, emission; raw units) with
@@ -66,10 +70,13 @@ struct SceneFrame {
 /// traced and regathered irradiance at every scene point (needs physics.prior_field "transport").
 /// point_inputs false: the regather (for the queries) without its value at every scene point —
 /// `regathered` stays empty: a model whose encoder does not run reads only the queries' (one gather of
-/// the M points less).
+/// the M points less). regather_only (needs a tracer, the transport prior and point_inputs false):
+/// what a skip of w = 1 reads — Ê · expm1(softplus(ln(R/Ê))) = R, the prior cancels — so the prior's
+/// bounces are not solved (SceneFrame::prior_solved false; the walks from every node are most of a
+/// frame's time) and R is the same as with them.
 SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
                              const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {},
-                             const PointTracer &tracer = {}, bool point_inputs = true);
+                             const PointTracer &tracer = {}, bool point_inputs = true, bool regather_only = false);
 
 /// Queries per gather call when a model decodes (LtmModelImpl::predict_irradiance's chunk, and the
 /// torch-free prior_irradiance and folded_irradiance): with the prior's visibility by rays,
@@ -104,8 +111,9 @@ void prior_irradiance(const SceneFrame &frame, const float *rows, size_t n, Vec3
 /// Ê⁺ = Ê · expm1(softplus(w ⊙ ln(R / Ê))) at query rows (raw, 9 floats a row), Ê and R the frame's
 /// prior and regather gathered in one walk (prior_scale_pair_normalized). The tensor model's
 /// arithmetic in float: equal to its output up to libm's and libtorch's last bits (tested to 1e-5).
-/// w = 0 is prior_irradiance. Both gather k_decode_chunk rows a call. Throws without the frame's
-/// regather.   rows [n, 9] -> out [n]
+/// w = 0 is prior_irradiance; w = 1 in every channel gathers R alone (floored as Ê), which equals the
+/// formula up to rounding, and is all a frame solved regather_only can give (other w throw there).
+/// Both gather k_decode_chunk rows a call. Throws without the frame's regather.   rows [n, 9] -> out [n]
 void folded_irradiance(const SceneFrame &frame, Vec3f skip, const float *rows, size_t n, Vec3f *out);
 
 }  // namespace ltm
