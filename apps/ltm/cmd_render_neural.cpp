@@ -75,7 +75,9 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     // no encoder, no attention: LtmModelImpl::fold_prior, or infer/prior_model.h without libtorch); or
     // the prior alone.
     std::string network = m.network ? "active" : "silenced: the prior alone, without libtorch";
-    if (m.prior.folded())
+    if (m.prior.folded() && !m.network && m.prior.skip == Vec3f(1.f))
+        network = "folded at w = 1: the regather alone (the prior's bounces not solved), without the encoder or attention, without libtorch";
+    else if (m.prior.folded())
         network = std::string("folded: the prior and its regather through the skip, without the encoder or attention") +
                   (m.network ? "" : ", without libtorch");
     OrderedJson j = {{"scene", a.scene},
