@@ -385,8 +385,24 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
     EXPECT_NE(report.find("\"fixed\": 8192"), std::string::npos);
     const Result w = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--set", "scene_points=4096", "-o", dir.path("w.safetensors")});
     EXPECT_EQ(w.code, 1) << w.err;
-    EXPECT_NE(w.err.find("only physics.prior_* keys and auto_scene_points"), std::string::npos) << w.err;
+    EXPECT_NE(w.err.find("only physics.prior_* keys, auto_scene_points and traced_inputs"), std::string::npos) << w.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("w.safetensors"))) << "no partial output";
+}
+
+// traced_inputs' count changes no parameter: export sets it (how v0.15 was made from v0.14) and the
+// render reads it (its traced paths double), but not to or from 0, which adds or drops the embedding's
+// columns.
+TEST(BadInput, ExportSetsTheTracedPathsCountButNotTracedInputsThemselves) {
+    test::TempDir dir;
+    const std::string shipped = test::source_path("models/ltm-cpu.safetensors"), twice = dir.path("twice.safetensors");
+    const Result e = run({"export", shipped, "--half", "--set", "traced_inputs=64", "-o", twice, "-q"});
+    ASSERT_EQ(e.code, 0) << e.err;
+    EXPECT_NE(read_file(twice).find("traced_inputs\\\":64"), std::string::npos) << "the config in the metadata (a JSON string)";
+    EXPECT_EQ(std::filesystem::file_size(twice), std::filesystem::file_size(shipped)) << "the same F16 tensors";
+    const Result b = run({"export", shipped, "--set", "traced_inputs=0", "-o", dir.path("bad.safetensors")});
+    EXPECT_EQ(b.code, 1) << b.err;
+    EXPECT_NE(b.err.find("traced_inputs"), std::string::npos) << b.err;   // the config's own check (traced queries need them) or export's
+    EXPECT_FALSE(std::filesystem::exists(dir.path("bad.safetensors"))) << "no partial output";
 }
 
 // --prior-rays end to end: the Cornell box renders with the prior's visibility by rays, and its mean
