@@ -12,7 +12,9 @@
 #include "ltm/core/tonemap.h"
 #include "ltm/eval/image_grid.h"
 #include "ltm/eval/reference_cache.h"
+#include "ltm/infer/field_render.h"
 #include "ltm/infer/neural_renderer.h"
+#include "ltm/infer/prior_model.h"
 #include "ltm/transport/power_balance.h"
 #include "ltm/transport/transport_prior.h"
 #include "ltm/render/gbuffer.h"
@@ -98,6 +100,15 @@ int64_t EvalModel::fit_scene_points(const Scene &scene) {
     return model->cfg.scene_points;
 }
 
+namespace {
+// A silent body whose skip is 1 in every channel is its regather R alone (nn/scene_frame.h
+// folded_irradiance), which `ltm render` solves without the prior's bounces.
+bool folds_to_regather(LtmModel &m) {
+    if (!m->fold_prior || !m->cfg.traced_queries || !m->decoder->body_silent()) return false;
+    return (m->decoder->skip.detach().to(torch::kCPU, torch::kFloat32) == 1.f).all().item<bool>();
+}
+}  // namespace
+
 EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<EvalModel> &models, const EvalOptions &opt) {
     if (opt.views < 1) LTM_THROW("eval: views must be >= 1, got ", opt.views);
     if (opt.ref_spp < 1 || opt.baseline_spp < 1) LTM_THROW("eval: samples per pixel must be >= 1");
@@ -144,6 +155,19 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         const double transport_vis_seconds = seconds_since(t_vis);
         std::vector<EncodedScene> encoded;
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
+        // Such a model's rows are made and timed as the renderer makes them (infer/prior_model.h: the
+        // same points, tracer and R to float rounding); its model-prior row reads the tensor model's frame.
+        std::vector<IrradianceDecoder> regather(models.size());
+        std::vector<double> regather_encode_seconds(models.size(), 0.0);
+        std::vector<std::shared_ptr<const SceneFrame>> regather_frames(models.size());
+        for (size_t mi = 0; mi < models.size(); ++mi) {
+            if (!folds_to_regather(models[mi].model)) continue;
+            const auto t = Clock::now();
+            PriorScene ps = encode_prior_scene(models[mi].model->cfg, accel, opt.seed, opt.exclude_enclosed, Vec3f(1.f));
+            regather_encode_seconds[mi] = seconds_since(t);
+            regather_frames[mi] = std::make_shared<const SceneFrame>(std::move(ps.frame));
+            regather[mi] = prior_decoder(regather_frames[mi], nullptr, Vec3f(1.f));
+        }
         for (int v = 0; v < opt.views; ++v) {
             const auto view = eval_view(accel, es.name, v, opt.views, opt.width, opt.height);
             if (!view) continue;
@@ -163,11 +187,13 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             for (size_t mi = 0; mi < models.size(); ++mi) {
                 const auto t0 = Clock::now();
                 PredictTimings pt;
-                const Image pred = scatter_to_image(gb, predict_gbuffer(models[mi].model, encoded[mi], gb, &pt));
+                const Image pred = scatter_to_image(gb, regather[mi] ? decode_gbuffer(regather[mi], gb)
+                                                                     : predict_gbuffer(models[mi].model, encoded[mi], gb, &pt));
                 const double decode_s = seconds_since(t0);
                 const EncodedScene &e = encoded[mi];
                 // A single frame pays the encoder too: the model's time is encode + kNN + decode.
-                const double secs = e.sample_seconds + e.geometry_seconds + e.encode_seconds + decode_s;
+                const double secs =
+                    (regather[mi] ? regather_encode_seconds[mi] : e.sample_seconds + e.geometry_seconds + e.encode_seconds) + decode_s;
                 if (mi == 0) first_model_seconds = secs;
                 add("model:" + models[mi].name, pred, secs, 0, e.n_scene_points);
                 model_images.push_back(pred);
@@ -182,9 +208,11 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                     GiUpsampleOptions gi;
                     gi.stride = opt.gi_stride, gi.levels = gi_levels, gi.contrast = opt.gi_contrast;
                     const auto t1 = Clock::now();
-                    const Image up = scatter_to_image(gb, predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
-                    const double up_s = e.sample_seconds + e.geometry_seconds + e.encode_seconds +
-                                        seconds_since(t1);
+                    const Image up = scatter_to_image(gb, regather[mi] ? decode_gbuffer_upsampled(regather[mi], gb, cam, gi)
+                                                                       : predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
+                    const double up_s =
+                        (regather[mi] ? regather_encode_seconds[mi] : e.sample_seconds + e.geometry_seconds + e.encode_seconds) +
+                        seconds_since(t1);
                     add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride) +
                             (gi_levels > 1 ? "-L" + std::to_string(gi_levels) : ""),
                         up, up_s, 0, e.n_scene_points);

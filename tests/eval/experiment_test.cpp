@@ -116,5 +116,30 @@ TEST(EvalModel, AutoScenePointsFollowEachScene) {
     EXPECT_EQ(m.model->cfg.physics.prior_theta, 0.f);
 }
 
+// A silent body with the skip at 1 (the shipped model) is evaluated as `ltm render` runs it: its
+// regather alone, without the prior's bounces (infer/prior_model.h). The same weights through the
+// tensor model's own path (fold_prior off: the encoder, attention and skip run) give the same E⁺ to
+// float rounding, and its model-prior row, from the full frame, is the prior, not R.
+TEST(EvalModel, ARegatherFoldIsEvaluatedAsTheRendererRunsIt) {
+    test::TempDir dir;
+    CornellEval e(24, 20, 16, 4, dir.path("cache"));
+    const std::string shipped = test::source_path("models/ltm-cpu.safetensors");
+    std::vector<EvalModel> models{{"folded", "", load_model(shipped).model}, {"tensor", "", load_model(shipped).model}};
+    for (auto &m : models) m.model->cfg.scene_points = 2048;
+    models[1].model->fold_prior = false;
+    const EvalReport r = run_evaluation(e.scenes, models, e.opt);
+    ASSERT_EQ(r.views.size(), 1u);
+    double folded = -1, tensor = -1, prior = -1;
+    for (const auto &m : r.views[0].methods) {
+        if (m.method == "model:folded") folded = m.metrics.mse;
+        if (m.method == "model:tensor") tensor = m.metrics.mse;
+        if (m.method == "model-prior:folded") prior = m.metrics.mse;
+    }
+    ASSERT_GT(folded, 0.0);
+    ASSERT_GT(tensor, 0.0);
+    EXPECT_NEAR(folded, tensor, 1e-3 * tensor);
+    EXPECT_GT(std::abs(prior - folded), 1e-2 * folded) << "the model-prior row is the prior, not R";
+}
+
 }  // namespace
 }  // namespace ltm
