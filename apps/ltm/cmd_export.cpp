@@ -28,8 +28,8 @@ void declare(CLI::App &sub, ExportArgs &a) {
     sub.add_option("--note", a.note, "Free text stored in the metadata ('note'), e.g. provenance");
     sub.add_option("--set", a.overrides,
                    "Override an inference setting in the exported config, e.g. --set physics.prior_open_rays=16, --set "
-                   "auto_scene_points=true or --set traced_inputs=32 (only physics.prior_* keys, auto_scene_points and the "
-                   "count of traced_inputs: they carry no parameters)");
+                   "auto_scene_points=true, --set scene_points=32768 or --set traced_inputs=32 (only physics.prior_* keys, "
+                   "auto_scene_points, scene_points and the count of traced_inputs: they carry no parameters)");
 }
 
 void run(const ExportArgs &a, const CommonOptions &) {
@@ -46,8 +46,8 @@ void run(const ExportArgs &a, const CommonOptions &) {
         meta = {{"step", std::to_string(st.step)}, {"best_val_loss", std::to_string(st.best_val)}};
     }
     if (!a.overrides.empty()) {
-        // The prior's settings are computed at inference from the scene points, the point count's rule
-        // picks how many, and traced_inputs how many paths each point traces: they change what the
+        // The prior's settings are computed at inference from the scene points, scene_points and the
+        // point count's rule pick how many, and traced_inputs how many paths each point traces: they change what the
         // weights predict but not their shapes (traced_inputs only from N > 0 to M > 0: 0 ↔ N adds or
         // removes the embedding's six columns); any other key would.
         // Weights without a physics section (v0.3) read as PhysicsConfig::legacy(); a physics object
@@ -55,8 +55,8 @@ void run(const ExportArgs &a, const CommonOptions &) {
         Json j = model->cfg.to_json();
         for (const auto &o : a.overrides) {
             const bool prior_key = o.rfind("physics.prior_", 0) == 0;
-            if (!prior_key && o.rfind("auto_scene_points=", 0) != 0 && o.rfind("traced_inputs=", 0) != 0)
-                LTM_THROW("--set ", o, ": only physics.prior_* keys, auto_scene_points and traced_inputs can change in export");
+            if (!prior_key && o.rfind("auto_scene_points=", 0) != 0 && o.rfind("scene_points=", 0) != 0 && o.rfind("traced_inputs=", 0) != 0)
+                LTM_THROW("--set ", o, ": only physics.prior_* keys, auto_scene_points, scene_points and traced_inputs can change in export");
             if (prior_key && !model->cfg.physics.any())
                 LTM_THROW("--set: ", a.input, " has no physics settings (v0.3 weights): nothing to override");
             apply_json_override(j, o);

@@ -383,9 +383,9 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
     const std::string report = read_file(dir.path("mixed/report.json"));
     EXPECT_NE(report.find("\"ours\": \"auto\""), std::string::npos) << report.substr(0, 400);
     EXPECT_NE(report.find("\"fixed\": 8192"), std::string::npos);
-    const Result w = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--set", "scene_points=4096", "-o", dir.path("w.safetensors")});
+    const Result w = run({"export", test::source_path("models/ltm-cpu.safetensors"), "--set", "embedding.dim=32", "-o", dir.path("w.safetensors")});
     EXPECT_EQ(w.code, 1) << w.err;
-    EXPECT_NE(w.err.find("only physics.prior_* keys, auto_scene_points and traced_inputs"), std::string::npos) << w.err;
+    EXPECT_NE(w.err.find("only physics.prior_* keys, auto_scene_points, scene_points and traced_inputs"), std::string::npos) << w.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("w.safetensors"))) << "no partial output";
 }
 
@@ -395,9 +395,10 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
 TEST(BadInput, ExportSetsTheTracedPathsCountButNotTracedInputsThemselves) {
     test::TempDir dir;
     const std::string shipped = test::source_path("models/ltm-cpu.safetensors"), twice = dir.path("twice.safetensors");
-    const Result e = run({"export", shipped, "--half", "--set", "traced_inputs=64", "-o", twice, "-q"});
+    const Result e = run({"export", shipped, "--half", "--set", "traced_inputs=64", "--set", "scene_points=4096", "-o", twice, "-q"});
     ASSERT_EQ(e.code, 0) << e.err;
     EXPECT_NE(read_file(twice).find("traced_inputs\\\":64"), std::string::npos) << "the config in the metadata (a JSON string)";
+    EXPECT_NE(read_file(twice).find("scene_points\\\":4096"), std::string::npos) << "and the point count";
     EXPECT_EQ(std::filesystem::file_size(twice), std::filesystem::file_size(shipped)) << "the same F16 tensors";
     const Result b = run({"export", shipped, "--set", "traced_inputs=0", "-o", dir.path("bad.safetensors")});
     EXPECT_EQ(b.code, 1) << b.err;
