@@ -12,6 +12,7 @@
 #include "ltm/core/progress.h"
 #include "ltm/core/startup.h"
 #include "ltm/core/tonemap.h"
+#include "ltm/nn/scene_frame.h"
 #include "ltm/procgen/training_range.h"
 #include "ltm/scene/scene_loader.h"
 
@@ -75,7 +76,7 @@ void run_neural_render(const NeuralRenderArgs &a, const CommonOptions &common) {
     // no encoder, no attention: LtmModelImpl::fold_prior, or infer/prior_model.h without libtorch); or
     // the prior alone.
     std::string network = m.network ? "active" : "silenced: the prior alone, without libtorch";
-    if (m.prior.folded() && !m.network && m.prior.skip == Vec3f(1.f))
+    if (m.prior.folded() && !m.network && skip_reads_regather_alone(m.prior.skip))
         network = "folded at w = 1: the regather alone (the prior's bounces not solved), without the encoder or attention, without libtorch";
     else if (m.prior.folded())
         network = std::string("folded: the prior and its regather through the skip, without the encoder or attention") +

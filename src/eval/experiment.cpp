@@ -15,6 +15,7 @@
 #include "ltm/infer/field_render.h"
 #include "ltm/infer/neural_renderer.h"
 #include "ltm/infer/prior_model.h"
+#include "ltm/nn/scene_frame.h"
 #include "ltm/transport/power_balance.h"
 #include "ltm/transport/transport_prior.h"
 #include "ltm/render/gbuffer.h"
@@ -101,11 +102,12 @@ int64_t EvalModel::fit_scene_points(const Scene &scene) {
 }
 
 namespace {
-// A silent body whose skip is 1 in every channel is its regather R alone (nn/scene_frame.h
-// folded_irradiance), which `ltm render` solves without the prior's bounces.
+// A silent body whose skip reads its regather R alone (nn/scene_frame.h skip_reads_regather_alone),
+// which `ltm render` solves without the prior's bounces.
 bool folds_to_regather(LtmModel &m) {
     if (!m->fold_prior || !m->cfg.traced_queries || !m->decoder->body_silent()) return false;
-    return (m->decoder->skip.detach().to(torch::kCPU, torch::kFloat32) == 1.f).all().item<bool>();
+    const auto w = m->decoder->skip.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+    return skip_reads_regather_alone(Vec3f(w[0].item<float>(), w[1].item<float>(), w[2].item<float>()));
 }
 }  // namespace
 
@@ -157,16 +159,17 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
         for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
         // Such a model's rows are made and timed as the renderer makes them (infer/prior_model.h: the
         // same points, tracer and R to float rounding); its model-prior row reads the tensor model's frame.
+        // encode_s: what a single frame pays before it decodes (sampling, geometry, the encode).
         std::vector<IrradianceDecoder> regather(models.size());
-        std::vector<double> regather_encode_seconds(models.size(), 0.0);
-        std::vector<std::shared_ptr<const SceneFrame>> regather_frames(models.size());
+        std::vector<double> encode_s(models.size());
         for (size_t mi = 0; mi < models.size(); ++mi) {
+            const EncodedScene &e = encoded[mi];
+            encode_s[mi] = e.sample_seconds + e.geometry_seconds + e.encode_seconds;
             if (!folds_to_regather(models[mi].model)) continue;
             const auto t = Clock::now();
             PriorScene ps = encode_prior_scene(models[mi].model->cfg, accel, opt.seed, opt.exclude_enclosed, Vec3f(1.f));
-            regather_encode_seconds[mi] = seconds_since(t);
-            regather_frames[mi] = std::make_shared<const SceneFrame>(std::move(ps.frame));
-            regather[mi] = prior_decoder(regather_frames[mi], nullptr, Vec3f(1.f));
+            encode_s[mi] = seconds_since(t);
+            regather[mi] = prior_decoder(std::make_shared<const SceneFrame>(std::move(ps.frame)), nullptr, Vec3f(1.f));   // it holds the frame
         }
         for (int v = 0; v < opt.views; ++v) {
             const auto view = eval_view(accel, es.name, v, opt.views, opt.width, opt.height);
@@ -192,8 +195,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 const double decode_s = seconds_since(t0);
                 const EncodedScene &e = encoded[mi];
                 // A single frame pays the encoder too: the model's time is encode + kNN + decode.
-                const double secs =
-                    (regather[mi] ? regather_encode_seconds[mi] : e.sample_seconds + e.geometry_seconds + e.encode_seconds) + decode_s;
+                const double secs = encode_s[mi] + decode_s;
                 if (mi == 0) first_model_seconds = secs;
                 add("model:" + models[mi].name, pred, secs, 0, e.n_scene_points);
                 model_images.push_back(pred);
@@ -210,9 +212,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                     const auto t1 = Clock::now();
                     const Image up = scatter_to_image(gb, regather[mi] ? decode_gbuffer_upsampled(regather[mi], gb, cam, gi)
                                                                        : predict_gbuffer_upsampled(models[mi].model, e, gb, cam, gi));
-                    const double up_s =
-                        (regather[mi] ? regather_encode_seconds[mi] : e.sample_seconds + e.geometry_seconds + e.encode_seconds) +
-                        seconds_since(t1);
+                    const double up_s = encode_s[mi] + seconds_since(t1);
                     add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride) +
                             (gi_levels > 1 ? "-L" + std::to_string(gi_levels) : ""),
                         up, up_s, 0, e.n_scene_points);

@@ -122,7 +122,7 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
     const bool regather = !(skip == Vec3f(0.f));
     s.frame = solve_scene_frame(s.points.values.data(), m, groups, cfg.physics, &sampled.emission_scale, prior_occlusion(cfg, accel),
                                 regather ? traced_inputs_tracer(cfg, accel) : PointTracer{}, /*point_inputs=*/false,
-                                /*regather_only=*/skip == Vec3f(1.f));
+                                /*regather_only=*/skip_reads_regather_alone(skip));
     s.encode_seconds = seconds_since(t);
     log_debug("scene frame: length unit ℓ = ", s.frame.length, ", emission scale S = ", s.frame.emission, ", output scale = ", s.frame.output);
     return s;

@@ -275,7 +275,7 @@ void folded_irradiance(const SceneFrame &f, Vec3f skip, const float *rows, size_
         return;
     }
     const std::vector<float> q = normalized_queries(f, rows, n);
-    if (skip == Vec3f(1.f)) {
+    if (skip_reads_regather_alone(skip)) {
         // Ê · expm1(softplus(ln(R/Ê))) = R (both floored): the prior cancels, so it is not gathered.
         prior_scale_normalized(f.regather.get(), f.output, q.data(), 9, n, out);
         return;

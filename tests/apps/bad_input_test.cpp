@@ -389,9 +389,9 @@ TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
     EXPECT_FALSE(std::filesystem::exists(dir.path("w.safetensors"))) << "no partial output";
 }
 
-// traced_inputs' count changes no parameter: export sets it (how v0.15 was made from v0.14) and the
-// render reads it (its traced paths double), but not to or from 0, which adds or drops the embedding's
-// columns.
+// traced_inputs' count and scene_points change no parameter: export sets them (how v0.15 was made
+// from v0.14) into the config it writes, the tensors' bytes kept, but not traced_inputs to or from 0,
+// which adds or drops the embedding's columns.
 TEST(BadInput, ExportSetsTheTracedPathsCountButNotTracedInputsThemselves) {
     test::TempDir dir;
     const std::string shipped = test::source_path("models/ltm-cpu.safetensors"), twice = dir.path("twice.safetensors");

@@ -107,6 +107,9 @@ float prior_gain();
 /// The model at its prior: Ê⁺ at raw query rows (p, n on the side the light is wanted, albedo; 9
 /// floats a row) = prior_scale · prior_gain().   rows [n, 9] -> out [n]
 void prior_irradiance(const SceneFrame &frame, const float *rows, size_t n, Vec3f *out);
+/// A skip of 1 in every channel: the fold Ê · expm1(softplus(ln(R/Ê))) is R itself, so the prior
+/// cancels and need not be solved (solve_scene_frame's regather_only).
+inline bool skip_reads_regather_alone(Vec3f skip) { return skip == Vec3f(1.f); }
 /// A silent body with a skip w (weights_file.h silent_body_skip), folded (LtmModelImpl::fold_prior):
 /// Ê⁺ = Ê · expm1(softplus(w ⊙ ln(R / Ê))) at query rows (raw, 9 floats a row), Ê and R the frame's
 /// prior and regather gathered in one walk (prior_scale_pair_normalized). The tensor model's
