@@ -78,6 +78,7 @@ std::string reference_cache_key(const Scene &scene, const Camera &camera, int sp
     f.pod(cfg.scene_id);
     f.pod(cfg.max_depth);
     f.pod(cfg.rr_depth);
+    if (cfg.offset_length != 1.f) f.pod(cfg.offset_length);   // the default keeps the keys written before it
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(f.h));
     return hex;

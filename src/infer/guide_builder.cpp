@@ -27,7 +27,7 @@ GuideBuild build_guide_cache(LtmModel &model, const EmbreeAccel &accel, const Gu
     const Vec3f s = sampled.emission_scale;
     const SceneLatents lat =
         model->encode(points, model->scene_geometry(points), torch::tensor({s.x, s.y, s.z}), nullptr, prior_occlusion(model, accel),
-                      traced_inputs_tracer(model->cfg, accel));
+                      traced_inputs_tracer(model->cfg, accel, sampled.ids));
     const PointSet &sp = sampled.points;
     const size_t m = sp.size(), c = std::min(m, size_t(opt.points));
     std::vector<float> xyz;

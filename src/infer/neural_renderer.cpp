@@ -55,7 +55,7 @@ EncodedScene encode_scene(LtmModel &model, const EmbreeAccel &accel, uint64_t se
         // physics.prior_rays: the prior's visibility by rays against this scene's meshes; traced_inputs:
         // a few paths per scene point through this scene (counted in the encode's time).
         enc.latents = model->encode(points, g, emission_scale, nullptr, prior_occlusion(model->cfg, accel),
-                                    traced_inputs_tracer(model->cfg, accel));
+                                    traced_inputs_tracer(model->cfg, accel, std::move(sampled.ids)));
     }
     enc.encode_seconds = seconds_since(t);
     const SceneNormalization &n = enc.latents.norm;

@@ -84,17 +84,20 @@ std::shared_ptr<const SegmentOcclusion> prior_occlusion(const ModelConfig &cfg, 
     return std::make_shared<MeshOcclusion>(accel);
 }
 
-PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel) {
+PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel, std::vector<uint64_t> point_keys) {
     if (cfg.traced_inputs <= 0) return {};
     PathTracerConfig tc;
     tc.seed = k_traced_inputs_seed;
     // E⁺ up to D − 1 scattering events: the regather's node re-emits ρ(E_dir + E⁺), and its gather
     // adds the last, so the regathered prior spans the prior's own 1 … D events (physics.prior_bounces).
     tc.max_depth = tc.rr_depth = std::max(1, cfg.physics.prior_bounces - 1);
+    // Ray offsets in the scene's own extent: the traced light must not depend on the unit of length.
+    tc.offset_length = std::max(max_component(accel.scene().bounds().extent()), 1e-30f);
     auto pt = std::make_shared<const PathTracer>(accel, tc);
     const int strata = cfg.traced_inputs;
-    return [pt, strata](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {
-        trace_irradiance(*pt, rows, 12, n, strata, direct, indirect);
+    return [pt, strata, keys = std::move(point_keys)](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {
+        if (!keys.empty() && keys.size() != n) LTM_THROW("traced inputs: ", keys.size(), " point keys for ", n, " scene points");
+        trace_irradiance(*pt, rows, 12, n, strata, direct, indirect, keys.empty() ? nullptr : keys.data());
     };
 }
 
@@ -121,7 +124,7 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
     // points'); at w = 1 without the prior's bounces (R alone is read).
     const bool regather = !(skip == Vec3f(0.f));
     s.frame = solve_scene_frame(s.points.values.data(), m, groups, cfg.physics, &sampled.emission_scale, prior_occlusion(cfg, accel),
-                                regather ? traced_inputs_tracer(cfg, accel) : PointTracer{}, /*point_inputs=*/false,
+                                regather ? traced_inputs_tracer(cfg, accel, std::move(sampled.ids)) : PointTracer{}, /*point_inputs=*/false,
                                 /*regather_only=*/skip_reads_regather_alone(skip));
     s.encode_seconds = seconds_since(t);
     log_debug("scene frame: length unit ℓ = ", s.frame.length, ", emission scale S = ", s.frame.emission, ", output scale = ", s.frame.output);

@@ -76,7 +76,7 @@ std::vector<float> normalized_points(const float *sp, size_t n_points, const Sce
 
 std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_points, const PointGroups &groups, const SceneFrame &f,
                                                       const PhysicsConfig &physics, std::shared_ptr<const SegmentOcclusion> occlusion,
-                                                      int bounces, bool &every_point) {
+                                                      int bounces, bool cluster_pairs, bool &every_point) {
     PointSet all;
     all.columns = scene_point_columns();
     all.values = normalized_points(sp, n_points, f);
@@ -111,6 +111,7 @@ std::shared_ptr<const TransportPrior> solve_transport(const float *sp, size_t n_
         // The prior works in the normalised frame: its points map back by centre + ℓ·x.
         vis.rays.occlusion = std::make_shared<FramedOcclusion>(std::move(occlusion), f.center, f.length);
         vis.rays.closure_rays = physics.prior_open_rays;
+        vis.cluster_pairs = cluster_pairs;
     }
     const Vec3f s = f.emission;
     return std::make_shared<const TransportPrior>(
@@ -206,8 +207,9 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
             const auto t = std::chrono::steady_clock::now();
             // Regather only: the nodes, tree, rays and near field the regather gathers through, without
             // the prior's bounces (its first walks from every node are most of the solve's time).
+            // Nor the clusters' pairwise visibility: with rays only a directional head's gather reads it.
             f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion), regather_only ? 0 : physics.prior_bounces,
-                                          nodes_are_points);
+                                          /*cluster_pairs=*/!regather_only, nodes_are_points);
             f.prior_solved = !regather_only;
             f.solve_seconds = seconds_since(t);
         }

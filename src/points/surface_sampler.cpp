@@ -86,6 +86,7 @@ std::vector<SurfaceSample> draw(const Scene &scene, const AreaDistribution &dist
             Pcg32 rng(hash_keys({key, uint64_t(i)}));
             const double u0 = (double(i) + rng.next_double()) / double(n);
             out[size_t(i)] = make_sample(scene, dist.tris[dist.find(u0)], r2_sequence(uint64_t(i), shift));
+            out[size_t(i)].id = uint64_t(stream) << 56 | (round * uint64_t(n) + uint64_t(i));
         }
     });
     return out;

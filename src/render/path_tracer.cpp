@@ -62,7 +62,7 @@ Vec3f PathTracer::light_sample_contribution(const SurfaceInteraction &si, const 
     if (cos_light <= 0.f || wi_local.z <= 0.f) return Vec3f(0.f);
     const Vec3f f = bsdf.eval(wo_local, wi_local);
     if (max_component(f) <= 0.f) return Vec3f(0.f);
-    if (m_accel.occluded(shadow_ray(si.p, frame.n, ls.p))) return Vec3f(0.f);
+    if (m_accel.occluded(shadow_ray(si.p, frame.n, ls.p, m_cfg.offset_length))) return Vec3f(0.f);
     const float pdf_l = LightSampler::to_solid_angle(ls.pdf_area, d2, cos_light);
     const float w = power_heuristic(pdf_l, sampler.pdf(wo_local, wi_local));
     return ls.radiance * f * (wi_local.z * w / pdf_l);
@@ -97,7 +97,7 @@ Vec3f PathTracer::reflected_radiance(const SurfaceInteraction &si0, Vec3f wo_wor
         if (bs.pdf <= 0.f || max_component(bs.weight) <= 0.f) break;
         beta = beta * bs.weight;
         const Vec3f wi = frame.to_world(bs.wi);
-        const Ray ray{offset_ray_origin(si.p, frame.n, wi), wi};
+        const Ray ray{offset_ray_origin(si.p, frame.n, wi, m_cfg.offset_length), wi};
         const auto hit = m_accel.intersect(ray);
         if (!hit) break;
         const SurfaceInteraction next = make_interaction(m_scene, ray, *hit);
@@ -141,7 +141,7 @@ IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key,
         wi = frame.to_world(bs.wi), pdf_b = bs.pdf, cos_over_pdf = traced ? bs.wi.z / bs.pdf : 0.f;
     }
     if (traced) {
-        const Ray ray{offset_ray_origin(p, n, wi), wi};
+        const Ray ray{offset_ray_origin(p, n, wi, m_cfg.offset_length), wi};
         if (const auto hit = m_accel.intersect(ray)) {
             const SurfaceInteraction y = make_interaction(m_scene, ray, *hit);
             const Vec3f le = y.emitted();
@@ -162,7 +162,7 @@ IrradianceEstimate PathTracer::irradiance_sample(Vec3f p, Vec3f n, uint64_t key,
         const Vec3f wl = to / std::sqrt(d2);
         const float cos_x = dot(n, wl), cos_light = -dot(ls.n, wl);
         if (d2 > 0.f && cos_x > 0.f && cos_light > 0.f) {
-            if (!m_accel.occluded(shadow_ray(p, n, ls.p))) {
+            if (!m_accel.occluded(shadow_ray(p, n, ls.p, m_cfg.offset_length))) {
                 const float pdf_l = LightSampler::to_solid_angle(ls.pdf_area, d2, cos_light);
                 const float pdf_b_l = sampler.guide ? sampler.pdf({0.f, 0.f, 1.f}, frame.to_local(wl)) : cos_x * k_inv_pi;
                 e.direct += ls.radiance * (cos_x * power_heuristic(pdf_l, pdf_b_l) / pdf_l);
@@ -197,7 +197,7 @@ std::vector<Vec3f> PathTracer::incident_radiance_bins(Vec3f p, Vec3f n, uint64_t
             Pcg32 rng(stream_key(point_index, (uint64_t(b) << 32) | uint64_t(s)));
             const Vec2f u = stratified(s, samples_per_bin, rng);
             const Vec3f wi = frame.to_world(square_to_direction(bin_to_square(b, resolution, u)));
-            const Ray ray{offset_ray_origin(p, n, wi), wi};
+            const Ray ray{offset_ray_origin(p, n, wi, m_cfg.offset_length), wi};
             const auto hit = m_accel.intersect(ray);
             if (!hit) continue;
             const SurfaceInteraction y = make_interaction(m_scene, ray, *hit);
@@ -208,12 +208,13 @@ std::vector<Vec3f> PathTracer::incident_radiance_bins(Vec3f p, Vec3f n, uint64_t
     return bins;
 }
 
-void trace_irradiance(const PathTracer &pt, const float *rows, size_t stride, size_t n, int strata, Vec3f *direct, Vec3f *indirect) {
+void trace_irradiance(const PathTracer &pt, const float *rows, size_t stride, size_t n, int strata, Vec3f *direct, Vec3f *indirect,
+                      const uint64_t *keys) {
     if (stride < 6) LTM_THROW("trace_irradiance: rows need p and n (stride >= 6), got ", stride);
     parallel_for(0, int64_t(n), 64, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             const float *r = rows + size_t(i) * stride;
-            const IrradianceEstimate est = pt.irradiance(Vec3f(r[0], r[1], r[2]), Vec3f(r[3], r[4], r[5]), uint64_t(i), strata);
+            const IrradianceEstimate est = pt.irradiance(Vec3f(r[0], r[1], r[2]), Vec3f(r[3], r[4], r[5]), keys ? keys[i] : uint64_t(i), strata);
             direct[i] = est.direct, indirect[i] = est.indirect;
         }
     });

@@ -283,7 +283,7 @@ std::vector<float> cluster_closure(const ClusterVisibility &vis, const DiscOcclu
 }
 
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::vector<Vec3f> &nrm, VoxelOccupancy occupancy,
-                                     int clusters, DiscOccluder discs, float cell) {
+                                     int clusters, DiscOccluder discs, float cell, bool pairs) {
     const size_t m = pos.size();
     if (m == 0) LTM_THROW("cluster visibility: no nodes");
     if (nrm.size() != m) LTM_THROW("cluster visibility: ", m, " positions but ", nrm.size(), " normals");
@@ -369,6 +369,10 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
         if (out.position[i].y != out.position[j].y) return out.position[i].y < out.position[j].y ? -1 : 1;
         return 0;
     };
+    if (!pairs) {
+        out.visible.assign(C * C, 1);
+        return out;
+    }
     out.visible.assign(C * C, 0);
     parallel_for(0, int64_t(C), 4, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {

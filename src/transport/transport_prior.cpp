@@ -474,6 +474,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     const auto t0 = Clock::now();
     double t_spacing = 0;
     ClusterVisibility v;
+    const bool pairs = !vis.rays || vis.cluster_pairs;   // with rays, only the directional gather reads them
     if (vis.voxel > 0.f || vis.voxel_spacings > 0.f) {
         std::vector<Vec3f> op, on;
         if (occupancy) {
@@ -498,10 +499,10 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         const float cell =
             discs ? float(double(spacing) * std::sqrt(2.0 * k_voxels_per_point * double(op.size()) / double(vis.clusters))) : 0.f;
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
-                               discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell);
-        if (vis.open_rays > 0 && discs) v.closure = cluster_closure(v, DiscOccluder(op, on, k_closure_disc_spacings * spacing), vis.open_rays);
+                               discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell, pairs);
+        if (vis.open_rays > 0 && discs && pairs) v.closure = cluster_closure(v, DiscOccluder(op, on, k_closure_disc_spacings * spacing), vis.open_rays);
     }
-    if (vis.open_rays > 0 && v.closure.empty()) LTM_THROW("transport prior: open_rays needs occlusion by discs");
+    if (vis.open_rays > 0 && pairs && v.closure.empty()) LTM_THROW("transport prior: open_rays needs occlusion by discs");
     v.blend = vis.blend;
     const auto t1 = Clock::now();
     TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches, theta,

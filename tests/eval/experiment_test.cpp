@@ -129,16 +129,19 @@ TEST(EvalModel, ARegatherFoldIsEvaluatedAsTheRendererRunsIt) {
     models[1].model->fold_prior = false;
     const EvalReport r = run_evaluation(e.scenes, models, e.opt);
     ASSERT_EQ(r.views.size(), 1u);
-    double folded = -1, tensor = -1, prior = -1;
+    const MethodResult *folded = nullptr, *tensor = nullptr, *prior = nullptr;
     for (const auto &m : r.views[0].methods) {
-        if (m.method == "model:folded") folded = m.metrics.mse;
-        if (m.method == "model:tensor") tensor = m.metrics.mse;
-        if (m.method == "model-prior:folded") prior = m.metrics.mse;
+        if (m.method == "model:folded") folded = &m;
+        if (m.method == "model:tensor") tensor = &m;
+        if (m.method == "model-prior:folded") prior = &m;
     }
-    ASSERT_GT(folded, 0.0);
-    ASSERT_GT(tensor, 0.0);
-    EXPECT_NEAR(folded, tensor, 1e-3 * tensor);
-    EXPECT_GT(std::abs(prior - folded), 1e-2 * folded) << "the model-prior row is the prior, not R";
+    ASSERT_TRUE(folded && tensor && prior);
+    ASSERT_GT(folded->metrics.mse, 0.0);
+    EXPECT_NEAR(folded->metrics.mse, tensor->metrics.mse, 1e-3 * tensor->metrics.mse);
+    EXPECT_NEAR(folded->field.level_ratio, tensor->field.level_ratio, 1e-4);
+    // The prior and R are close on this small box (MSEs 0.3 % apart, levels 1.003 and 0.992), yet
+    // farther apart than the two paths to R are from each other.
+    EXPECT_GT(std::abs(prior->field.level_ratio - folded->field.level_ratio), 5e-3) << "the model-prior row is the prior, not R";
 }
 
 }  // namespace

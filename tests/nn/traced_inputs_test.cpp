@@ -85,12 +85,11 @@ TEST(TracedInputs, InputsKeepTheSymmetriesWhenTheSceneIsScaled) {
     const EmbreeAccel accel8(big);
     const auto sp8 = test::scaled(f.sp, 0, 3, 8.0), qp8 = test::scaled(f.qp, 0, 3, 8.0);
     const SceneLatents lat8 = m->encode(sp8, m->scene_geometry(sp8), {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel8));
-    // The tracer's ray offsets are absolute lengths, so a path or two that graze an edge go
-    // elsewhere (2 of the 1 024 points move by more than 10⁻³ here); every other input is the same.
-    const auto d = (traced_features(lat8) - base).abs();
-    EXPECT_LT(d.mean().item<double>(), 1e-4);
-    EXPECT_LT((std::get<0>(d.max(1)) > 1e-3).sum().item<int64_t>(), d.size(0) / 100);
-    EXPECT_LT(test::relative_error(m->predict_irradiance(qp8, lat8), e), 3e-2) << "a random network amplifies those few points";
+    // The tracer's ray offsets scale with the scene's extent (PathTracerConfig::offset_length): with
+    // a metre's floor, 2 of the 1 024 points' paths grazed an edge and went elsewhere at ×8 (inputs
+    // 10⁻³ off, the random network's output 3 %); now every path is the same path.
+    EXPECT_LT(max_abs(traced_features(lat8) - base), 1e-4);
+    EXPECT_LT(test::relative_error(m->predict_irradiance(qp8, lat8), e), 1e-4);
 }
 
 TEST(TracedInputs, TheSameAtAnyThreadCount) {

@@ -5,6 +5,7 @@
 // form factor's complement; deterministic at any thread count; bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -242,6 +243,35 @@ TEST(PriorRays, AWallBetweenRoomsLetsNoLightThrough) {
     EXPECT_GT(leak, 0.0);   // the test can fail: without the wall, light reaches the second room
     const auto lit = test::gather(walled, lit_p, lit_n), ref = test::gather(single, lit_p, lit_n);
     for (size_t i = 0; i < lit.size(); ++i) EXPECT_NEAR(lit[i], ref[i], 0.03 * ref[i] + 1e-6) << i;
+}
+
+// With rays the clusters' pairwise visibility and closure are read by the directional gather alone:
+// built without them (VisibilityOptions::cluster_pairs false, a frame solved for its regather alone)
+// the prior's nodes and gathers are the same bit for bit, and the clusters the same partition.
+TEST(PriorRays, ClusterPairsAreNotNeededByTheRaysGather) {
+    const Points both = two_closed_rooms(10, true);
+    PointSet sp;
+    sp.columns = scene_point_columns();
+    for (size_t i = 0; i < both.p.size(); ++i)
+        for (const Vec3f &v : {both.p[i], both.n[i], both.rho[i], both.le[i]}) sp.values.insert(sp.values.end(), {v.x, v.y, v.z});
+    auto solved = [&](bool pairs) {
+        VisibilityOptions vis;
+        vis.voxel_spacings = 1.f, vis.disc_spacings = 1.f, vis.clusters = 32, vis.blend = 4, vis.open_rays = 4;
+        vis.rays.occlusion = std::make_shared<Wall>(3.1f), vis.rays.closure_rays = 4;
+        vis.cluster_pairs = pairs;
+        return solve_transport_prior(sp, 9.f / 100.f, 5, nullptr, vis, nullptr, PriorBalance::none, true, 0.5f);
+    };
+    const TransportPrior with = solved(true), without = solved(false);
+    ASSERT_EQ(with.visibility.node_cluster, without.visibility.node_cluster);
+    EXPECT_FALSE(with.visibility.closure.empty());
+    EXPECT_TRUE(without.visibility.closure.empty());
+    EXPECT_NE(std::count(with.visibility.visible.begin(), with.visibility.visible.end(), 0), 0) << "the wall hides clusters";
+    EXPECT_EQ(std::count(without.visibility.visible.begin(), without.visibility.visible.end(), 0), 0);
+    ASSERT_EQ(with.exitance.size(), without.exitance.size());
+    for (size_t j = 0; j < with.exitance.size(); ++j) ASSERT_EQ(with.exitance[j], without.exitance[j]) << j;
+    std::vector<Vec3f> qp, qn;
+    receivers(0.f, qp, qn), receivers(3.2f, qp, qn);
+    EXPECT_EQ(test::gather(with, qp, qn), test::gather(without, qp, qn));
 }
 
 // The furnace (a closed box, uniform ρ and emission) with rays: every term is clear and every ray

@@ -94,9 +94,12 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
                               Vec3f skip = Vec3f(0.f));
 /// The tracer of a model's traced inputs (ModelConfig::traced_inputs strata per scene point) in this
 /// scene: its own random streams (k_traced_inputs_seed, never a reference's or a record's), `accel`
-/// must outlive it; empty when the model has none.
+/// must outlive it; empty when the model has none. point_keys: [M] the streams of the scene points
+/// it will be given (ScenePoints::ids: the same point on the same stream in any unit); empty: point
+/// i on stream i (a record's points, which carry no identity). Its rays' offsets scale with the
+/// scene's extent (PathTracerConfig::offset_length).
 inline constexpr uint64_t k_traced_inputs_seed = 0x7ace5eed0001ull;
-PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel);
+PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel, std::vector<uint64_t> point_keys = {});
 /// The prior's Ê⁺ (nn/scene_frame.h prior_irradiance; with a skip w ≠ 0, folded_irradiance) as a
 /// decoder; shares the frame. `timings` (optional) accumulates its calls' seconds as `decode`, as the
 /// tensor model's folded path timed them.

@@ -73,7 +73,8 @@ struct SceneFrame {
 /// the M points less). regather_only (needs a tracer, the transport prior and point_inputs false):
 /// what a skip of w = 1 reads — Ê · expm1(softplus(ln(R/Ê))) = R, the prior cancels — so the prior's
 /// bounces are not solved (SceneFrame::prior_solved false; the walks from every node are most of a
-/// frame's time) and R is the same as with them.
+/// frame's time), nor, with the prior's rays, its clusters' pairwise visibility (read by a directional
+/// head's gather only: VisibilityOptions::cluster_pairs), and R is the same as with them.
 SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
                              const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {},
                              const PointTracer &tracer = {}, bool point_inputs = true, bool regather_only = false);

@@ -15,6 +15,11 @@ struct SurfaceSample {
     Vec3f p, n;                 ///< position (m) and unit geometric normal (winding side)
     Vec3f albedo, emission;     ///< texture values at the sample's uv
     uint32_t mesh = 0, triangle = 0;
+    /// The candidate's identity: its stream in the top 8 bits, round · n + index in its draw
+    /// (sample_surface) below. What a seeded choice among samples, or a random stream of a sample,
+    /// keys on: an index in the output shifts with every candidate the filter judged otherwise
+    /// before it (the same scene in another unit, through float rounding), the identity does not.
+    uint64_t id = 0;
 };
 
 /// Independent sample streams of one scene (different points for the same seed).

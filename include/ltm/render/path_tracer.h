@@ -22,6 +22,11 @@ struct PathTracerConfig {
     uint64_t scene_id = 0;   ///< mixes into every random stream (default: hash of the scene name)
     int max_depth = 5;       ///< scattering events after the query point (paper: 5)
     int rr_depth = 5;        ///< Russian roulette from this many scattering events on (unbiased)
+    /// Floor of the rays' self-intersection offset (render/ray.h offset_ray_origin), scene units:
+    /// 1 (a metre) for rendering; the scene's extent where the answer must not depend on the unit of
+    /// length (the model's traced inputs, infer/prior_model.h: with a metre's floor a 10 m house scaled
+    /// ×10 offsets its rays 8 % less, and the paths that graze an edge go elsewhere).
+    float offset_length = 1.f;
 };
 
 struct IrradianceEstimate {
@@ -89,10 +94,11 @@ inline float power_heuristic(float a, float b) {
 /// FNV-1a of a string: stable scene ids from names.
 uint64_t stable_hash(const std::string &s);
 
-/// E_dir and E⁺ at n points, `strata` strata each (PathTracer::irradiance, point i on stream i):
-/// rows hold p at floats 0–2 and the unit normal at 3–5, `stride` floats a row; direct [n],
-/// indirect [n]. Parallel, the same numbers at any thread count. The model's traced inputs
-/// (nn/model_config.h traced_inputs) are these at its scene points.
-void trace_irradiance(const PathTracer &pt, const float *rows, size_t stride, size_t n, int strata, Vec3f *direct, Vec3f *indirect);
+/// E_dir and E⁺ at n points, `strata` strata each (PathTracer::irradiance, point i on stream
+/// keys[i], or i without keys): rows hold p at floats 0–2 and the unit normal at 3–5, `stride`
+/// floats a row; direct [n], indirect [n], keys [n] or null. Parallel, the same numbers at any
+/// thread count. The model's traced inputs (nn/model_config.h traced_inputs) are these at its scene points.
+void trace_irradiance(const PathTracer &pt, const float *rows, size_t stride, size_t n, int strata, Vec3f *direct, Vec3f *indirect,
+                      const uint64_t *keys = nullptr);
 
 }  // namespace ltm

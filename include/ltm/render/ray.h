@@ -33,8 +33,9 @@ inline Vec3f offset_ray_origin(Vec3f p, Vec3f n, Vec3f d, float length = 1.f) {
 
 /// Shadow ray from surface point (p, n) to `target`: unnormalised direction from the offset
 /// origin straight to the target, so t = 1 is the target and the interval stops just short of it.
-inline Ray shadow_ray(Vec3f p, Vec3f n, Vec3f target) {
-    const Vec3f o = offset_ray_origin(p, n, target - p);
+/// `length`: the offset's floor, as offset_ray_origin's.
+inline Ray shadow_ray(Vec3f p, Vec3f n, Vec3f target, float length = 1.f) {
+    const Vec3f o = offset_ray_origin(p, n, target - p, length);
     return {o, target - o, 0.f, 1.f - 1e-4f};
 }
 

@@ -18,6 +18,10 @@ namespace ltm {
 struct ScenePoints {
     PointSet points;       ///< [M, 12] scene_point_columns()
     Vec3f emission_scale;  ///< S_c = Φ_c / A (W/m²) of the sampled surface
+    /// [M] each point's candidate identity (SurfaceSample::id): the model's traced inputs key their
+    /// random streams on it (infer/prior_model.h traced_inputs_tracer), so a point keeps its paths
+    /// when a candidate before it flips, as the points themselves do.
+    std::vector<uint64_t> ids;
 };
 
 /// How near a surface must close a scene point's hemisphere for the point to count as buried

@@ -93,6 +93,12 @@ struct VisibilityOptions {
     /// (transport/segment_occlusion.h, through the cluster tree: needs θ > 0); the clusters above are
     /// still built for the directional gather (gather_transport_prior_radiance).
     PriorRays rays;
+    /// With rays: false builds the clusters alone (the tree's partition), not their pairwise
+    /// visibility and closure, which only the directional gather reads — every pair then counts as
+    /// visible and the rows and gathers are bit for bit the same (the rays decide). A frame solved
+    /// for its regather alone (nn/scene_frame.h) has no directional gather: on the demo house at
+    /// 32 768 points the pairs' segments were a tenth of the frame's CPU. Ignored without rays.
+    bool cluster_pairs = true;
 };
 
 /// The spacing of a surface sample: √(π · mean r₈² / 8), r₈ the distance of each point to its 8th
@@ -176,7 +182,9 @@ constexpr float k_closure_disc_spacings = 1.5f;
 /// count M instead (transport/transport_prior.cpp; physics check of v0.9 on 8 test houses: unit error
 /// 0.64 % mean / 3.0 % max → 0.55 % / 1.9 %).
 /// Throws ltm::Error on mismatched sizes or bad options.
+/// pairs false: the clusters only, `visible` all 1 (VisibilityOptions::cluster_pairs).
 ClusterVisibility cluster_visibility(const std::vector<Vec3f> &node_position, const std::vector<Vec3f> &node_normal,
-                                     VoxelOccupancy occupancy, int clusters, DiscOccluder discs = {}, float cell = 0.f);
+                                     VoxelOccupancy occupancy, int clusters, DiscOccluder discs = {}, float cell = 0.f,
+                                     bool pairs = true);
 
 }  // namespace ltm
