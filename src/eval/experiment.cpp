@@ -1,6 +1,7 @@
 // experiment.cpp: scenes × views × methods → metrics, grids, report.
 #include "ltm/eval/experiment.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -128,10 +129,12 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             pt_eq(accel, tracer_config(EvalRole::equal_time));
         for (auto &m : models) m.fit_scene_points(es.scene);
         // The closed-form rows below solve densely: at the first model's M, or with auto at the M it
-        // was loaded with (auto's M goes through the tree; dense rows at 32 768 would hold ~4 GB).
-        const int64_t n_points = models.empty()                      ? 8192
-                                 : models.front().auto_scene_points ? models.front().fixed.scene_points
-                                                                    : models.front().model->cfg.scene_points;
+        // was loaded with (auto's M goes through the tree), and at most k_dense_rows_points (dense
+        // rows at 32 768 hold ~4 GB and took 7 s a view beside v0.16, which samples 32 768 everywhere).
+        constexpr int64_t k_dense_rows_points = 16384;
+        const int64_t n_points = std::min(k_dense_rows_points, models.empty()                      ? 8192
+                                                               : models.front().auto_scene_points ? models.front().fixed.scene_points
+                                                                                                  : models.front().model->cfg.scene_points);
         const auto t_prior = Clock::now();
         const ScenePoints sampled = sample_scene_points(accel, n_points, opt.seed, opt.exclude_enclosed);
         const auto prior = power_balance_irradiance(sampled.points, PathTracerConfig{}.max_depth, &sampled.emission_scale);
@@ -155,21 +158,34 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             sampled.points, spacing * spacing, PathTracerConfig{}.max_depth, &sampled.emission_scale, vis, nullptr, PriorBalance::none,
             true);
         const double transport_vis_seconds = seconds_since(t_vis);
-        std::vector<EncodedScene> encoded;
-        for (auto &m : models) encoded.push_back(encode_scene(m.model, accel, opt.seed, opt.exclude_enclosed));
-        // Such a model's rows are made and timed as the renderer makes them (infer/prior_model.h: the
-        // same points, tracer and R to float rounding); its model-prior row reads the tensor model's frame.
-        // encode_s: what a single frame pays before it decodes (sampling, geometry, the encode).
-        std::vector<IrradianceDecoder> regather(models.size());
-        std::vector<double> encode_s(models.size());
+        // A model that folds to its regather R (a silent body, the skip at 1) is made and timed as the
+        // renderer makes it, without libtorch (infer/prior_model.h: the same points, tracer and R to
+        // float rounding): R from a frame solved for it alone, its model-prior row from a frame solved
+        // for the prior alone (untraced) — the tensor model's encode would trace the scene a second time
+        // for neither. Any other model encodes as the tensor model.
+        // encode_s: what a single frame pays before it decodes (sampling, geometry, the encode);
+        // prior_s: the same for the model-prior row; points: the scene points sampled.
+        std::vector<EncodedScene> encoded(models.size());
+        std::vector<IrradianceDecoder> regather(models.size()), prior_only(models.size());
+        std::vector<double> encode_s(models.size()), prior_s(models.size());
+        std::vector<int64_t> points(models.size());
         for (size_t mi = 0; mi < models.size(); ++mi) {
-            const EncodedScene &e = encoded[mi];
-            encode_s[mi] = e.sample_seconds + e.geometry_seconds + e.encode_seconds;
-            if (!folds_to_regather(models[mi].model)) continue;
-            const auto t = Clock::now();
-            PriorScene ps = encode_prior_scene(models[mi].model->cfg, accel, opt.seed, opt.exclude_enclosed, Vec3f(1.f));
-            encode_s[mi] = seconds_since(t);
-            regather[mi] = prior_decoder(std::make_shared<const SceneFrame>(std::move(ps.frame)), nullptr, Vec3f(1.f));   // it holds the frame
+            if (!folds_to_regather(models[mi].model)) {
+                const EncodedScene &e = encoded[mi] = encode_scene(models[mi].model, accel, opt.seed, opt.exclude_enclosed);
+                encode_s[mi] = e.sample_seconds + e.geometry_seconds + e.encode_seconds;
+                prior_s[mi] = e.sample_seconds + e.geometry_seconds + e.latents.norm.solve_seconds;
+                points[mi] = e.n_scene_points;
+                continue;
+            }
+            const ModelConfig &cfg = models[mi].model->cfg;
+            auto t = Clock::now();
+            PriorScene r = encode_prior_scene(cfg, accel, opt.seed, opt.exclude_enclosed, Vec3f(1.f));
+            encode_s[mi] = seconds_since(t), points[mi] = r.n_scene_points;
+            regather[mi] = prior_decoder(std::make_shared<const SceneFrame>(std::move(r.frame)), nullptr, Vec3f(1.f));   // it holds the frame
+            t = Clock::now();
+            PriorScene p = encode_prior_scene(cfg, accel, opt.seed, opt.exclude_enclosed);
+            prior_s[mi] = seconds_since(t);
+            prior_only[mi] = prior_decoder(std::make_shared<const SceneFrame>(std::move(p.frame)), nullptr);
         }
         for (int v = 0; v < opt.views; ++v) {
             const auto view = eval_view(accel, es.name, v, opt.views, opt.width, opt.height);
@@ -197,14 +213,12 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 // A single frame pays the encoder too: the model's time is encode + kNN + decode.
                 const double secs = encode_s[mi] + decode_s;
                 if (mi == 0) first_model_seconds = secs;
-                add("model:" + models[mi].name, pred, secs, 0, e.n_scene_points);
+                add("model:" + models[mi].name, pred, secs, 0, points[mi]);
                 model_images.push_back(pred);
                 // The model's own prior, the network silenced: what the network adds is the row above against this.
                 const auto t_prior_row = Clock::now();
-                const Image prior_only = scatter_to_image(gb, predict_gbuffer_prior(encoded[mi], gb));
-                add("model-prior:" + models[mi].name, prior_only,
-                    e.sample_seconds + e.geometry_seconds + e.latents.norm.solve_seconds + seconds_since(t_prior_row), 0,
-                    e.n_scene_points);
+                const Image prior_img = scatter_to_image(gb, prior_only[mi] ? decode_gbuffer(prior_only[mi], gb) : predict_gbuffer_prior(e, gb));
+                add("model-prior:" + models[mi].name, prior_img, prior_s[mi] + seconds_since(t_prior_row), 0, points[mi]);
                 const int gi_levels = opt.gi_levels > 0 ? opt.gi_levels : auto_gi_levels(opt.gi_stride, cam.width, cam.height);
                 if (opt.gi_stride > 1 || gi_levels > 1) {
                     GiUpsampleOptions gi;
@@ -215,7 +229,7 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                     const double up_s = encode_s[mi] + seconds_since(t1);
                     add("model:" + models[mi].name + "/gi" + std::to_string(opt.gi_stride) +
                             (gi_levels > 1 ? "-L" + std::to_string(gi_levels) : ""),
-                        up, up_s, 0, e.n_scene_points);
+                        up, up_s, 0, points[mi]);
                 }
             }
             const IrradianceImages b64 = irradiance_images(pt_64, gb, opt.baseline_spp, true);

@@ -119,7 +119,8 @@ TEST(EvalModel, AutoScenePointsFollowEachScene) {
 // A silent body with the skip at 1 (the shipped model) is evaluated as `ltm render` runs it: its
 // regather alone, without the prior's bounces (infer/prior_model.h). The same weights through the
 // tensor model's own path (fold_prior off: the encoder, attention and skip run) give the same E⁺ to
-// float rounding, and its model-prior row, from the full frame, is the prior, not R.
+// float rounding; its model-prior row, from a frame solved for the prior alone (untraced: the scene is
+// traced once, for R), is the tensor model's prior row, not R.
 TEST(EvalModel, ARegatherFoldIsEvaluatedAsTheRendererRunsIt) {
     test::TempDir dir;
     CornellEval e(24, 20, 16, 4, dir.path("cache"));
@@ -129,13 +130,17 @@ TEST(EvalModel, ARegatherFoldIsEvaluatedAsTheRendererRunsIt) {
     models[1].model->fold_prior = false;
     const EvalReport r = run_evaluation(e.scenes, models, e.opt);
     ASSERT_EQ(r.views.size(), 1u);
-    const MethodResult *folded = nullptr, *tensor = nullptr, *prior = nullptr;
+    const MethodResult *folded = nullptr, *tensor = nullptr, *prior = nullptr, *tensor_prior = nullptr;
     for (const auto &m : r.views[0].methods) {
         if (m.method == "model:folded") folded = &m;
         if (m.method == "model:tensor") tensor = &m;
         if (m.method == "model-prior:folded") prior = &m;
+        if (m.method == "model-prior:tensor") tensor_prior = &m;
     }
-    ASSERT_TRUE(folded && tensor && prior);
+    ASSERT_TRUE(folded && tensor && prior && tensor_prior);
+    // The folded model's prior row comes from an untraced torch-free frame, the tensor model's from its encode.
+    EXPECT_NEAR(prior->metrics.mse, tensor_prior->metrics.mse, 1e-3 * tensor_prior->metrics.mse);
+    EXPECT_NEAR(prior->field.level_ratio, tensor_prior->field.level_ratio, 1e-4);
     ASSERT_GT(folded->metrics.mse, 0.0);
     EXPECT_NEAR(folded->metrics.mse, tensor->metrics.mse, 1e-3 * tensor->metrics.mse);
     EXPECT_NEAR(folded->field.level_ratio, tensor->field.level_ratio, 1e-4);
