@@ -91,12 +91,16 @@ PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &acce
     // E⁺ up to D − 1 scattering events: the regather's node re-emits ρ(E_dir + E⁺), and its gather
     // adds the last, so the regathered prior spans the prior's own 1 … D events (physics.prior_bounces).
     tc.max_depth = tc.rr_depth = std::max(1, cfg.physics.prior_bounces - 1);
-    // Ray offsets in the scene's own extent: the traced light must not depend on the unit of length.
-    tc.offset_length = std::max(max_component(accel.scene().bounds().extent()), 1e-30f);
+    // The rays' offset floor in the scene's own length, so the traced light does not depend on the
+    // unit: 1 % of its extent (a metre's floor for a 100 m scene; the whole extent would offset a
+    // room beside a 1 km ground plane by 10 cm, through thin walls).
+    tc.offset_length = std::max(1e-2f * max_component(accel.scene().bounds().extent()), 1e-30f);
     auto pt = std::make_shared<const PathTracer>(accel, tc);
     const int strata = cfg.traced_inputs;
     return [pt, strata, keys = std::move(point_keys)](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {
-        if (!keys.empty() && keys.size() != n) LTM_THROW("traced inputs: ", keys.size(), " point keys for ", n, " scene points");
+        if (!keys.empty()) {
+            LTM_CHECK_EQ(keys.size(), n);   // the keys of the points it is given
+        }
         trace_irradiance(*pt, rows, 12, n, strata, direct, indirect, keys.empty() ? nullptr : keys.data());
     };
 }

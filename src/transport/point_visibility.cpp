@@ -371,6 +371,7 @@ ClusterVisibility cluster_visibility(const std::vector<Vec3f> &pos, const std::v
     };
     if (!pairs) {
         out.visible.assign(C * C, 1);
+        out.pairs = false;
         return out;
     }
     out.visible.assign(C * C, 0);

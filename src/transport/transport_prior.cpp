@@ -104,6 +104,7 @@ struct BlendedView {
     float set(const ClusterVisibility &vis, Vec3f p, Vec3f n, const uint32_t *own) {
         view = {};
         if (vis.empty()) return 1.f;
+        LTM_CHECK(vis.pairs);   // clusters built without their pairwise visibility (rays only) have no views
         int K = 1;
         if (own && vis.blend <= 1) ids[0] = *own, w[0] = 1.f;
         else K = vis.receiver_clusters(p, n, ids, w);
@@ -122,6 +123,7 @@ struct ReceiverView {
     explicit ReceiverView(const ClusterOrder &co) : mask(co.order.size(), 1.f), runs{{0, co.order.size()}} {}
     void set(const ClusterVisibility &vis, const ClusterOrder &co, const uint32_t *ids, const float *w, int K) {
         const size_t C = vis.size();
+        LTM_CHECK(vis.pairs);
         closure = vis.closure_of(ids, w, K);
         weight.resize(C);
         vis.blend_rows(ids, w, K, weight.data());
@@ -475,6 +477,7 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     double t_spacing = 0;
     ClusterVisibility v;
     const bool pairs = !vis.rays || vis.cluster_pairs;   // with rays, only the directional gather reads them
+    bool with_discs = false;
     if (vis.voxel > 0.f || vis.voxel_spacings > 0.f) {
         std::vector<Vec3f> op, on;
         if (occupancy) {
@@ -501,8 +504,9 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
                                discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell, pairs);
         if (vis.open_rays > 0 && discs && pairs) v.closure = cluster_closure(v, DiscOccluder(op, on, k_closure_disc_spacings * spacing), vis.open_rays);
+        with_discs = discs;
     }
-    if (vis.open_rays > 0 && pairs && v.closure.empty()) LTM_THROW("transport prior: open_rays needs occlusion by discs");
+    if (vis.open_rays > 0 && !with_discs) LTM_THROW("transport prior: open_rays needs occlusion by discs");
     v.blend = vis.blend;
     const auto t1 = Clock::now();
     TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches, theta,

@@ -218,7 +218,7 @@ TEST(BadInput, NeuralRenderOfAFarFlungSceneIsOneLine) {
                           dir.path("r")});
     EXPECT_EQ(r.code, 1) << r.err;
     // The out-of-range warning may precede it (warnings print even with --quiet), and the line
-    // naming the shipped model's auto point count; then exactly one error line, and nothing of a
+    // naming an auto point count; then exactly one error line, and nothing of a
     // backtrace.
     std::istringstream lines(r.err);
     int errors = 0;
@@ -307,8 +307,8 @@ TEST(BadInput, ScenePointsOutOfBoundsIsOneLineNamingTheLimit) {
     EXPECT_EQ(dir.count(), n) << "no partial output";
 }
 
-// `--scene-points auto`: the scene's detail picks M (16 384 for the Cornell box's 32 triangles) and
-// the prior then goes through its tree; the render says so and records M. A word other than auto is
+// `--scene-points auto`: the scene's detail picks M (16 384 for the Cornell box's 32 triangles; the
+// prior then goes through its tree); the render says so and records M. A word other than auto is
 // a usage error (exit 2), and the path tracer refuses it as any --scene-points.
 TEST(BadInput, ScenePointsAutoPicksFromTheSceneOrIsAUsageError) {
     test::TempDir dir;
@@ -348,7 +348,7 @@ TEST(BadInput, EvalScenePointsAutoPerScene) {
 
 // A model whose config asks for auto_scene_points (`ltm export --set auto_scene_points=true`)
 // renders and evaluates with the scene's auto count when --scene-points is not given, and with the
-// user's count when it is; with it off (exported from the shipped model, which has it on), the
+// user's count when it is; with it off (exported from the shipped model at 8 192 points), the
 // model's own 8 192. Export refuses keys that carry parameters.
 TEST(BadInput, ModelConfigAutoScenePointsIsTheDefaultUnlessGiven) {
     test::TempDir dir;

@@ -5,7 +5,9 @@
 // model without its scene's tracer says so. The trainer's side (draws, the widening conversion):
 // tests/train/trainer_test.cpp.
 #include <atomic>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>
@@ -105,6 +107,22 @@ TEST(TracedInputs, TheSameAtAnyThreadCount) {
     const auto two = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel)).norm.point_traced;
     set_num_threads(threads);
     EXPECT_TRUE(torch::equal(one, two));
+}
+
+// The tracer keyed by the scene points' identities (ScenePoints::ids) must be given as many points as
+// it has keys: the keys of other points would trace the wrong streams (an internal error: the callers
+// pass the ids of the points they sampled).
+TEST(TracedInputs, KeysForOtherPointsAreRefused) {
+    Fixture f;
+    const EmbreeAccel accel(f.scene);
+    const auto sp = f.sp.contiguous();
+    const size_t n = size_t(sp.size(0));
+    std::vector<uint64_t> keys(n);
+    for (size_t i = 0; i < n; ++i) keys[i] = 1000 + i;
+    std::vector<Vec3f> direct(n), indirect(n);
+    EXPECT_NO_THROW(traced_inputs_tracer(f.cfg, accel, keys)(sp.data_ptr<float>(), n, direct.data(), indirect.data()));
+    keys.pop_back();
+    EXPECT_THROW(traced_inputs_tracer(f.cfg, accel, keys)(sp.data_ptr<float>(), n, direct.data(), indirect.data()), std::logic_error);
 }
 
 // A model at its prior reads no input (fold_prior): it must not pay for tracing. With its network

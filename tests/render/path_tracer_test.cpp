@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "ltm/core/rng.h"
 #include "ltm/core/sampling.h"
@@ -88,6 +89,37 @@ TEST(PathTracer, FurnaceInfiniteDepthMatchesClosedForm) {
         const double expected = k_pi / (1.0 - rho);
         EXPECT_NEAR(e.direct.x + e.indirect.x, expected, 0.01 * expected) << rho;
     }
+}
+
+// trace_irradiance runs point i on stream keys[i] (without keys: on stream i): rows and keys permuted
+// together give the outputs permuted, bit for bit, and keys 0 … n−1 are the keyless numbers — so a
+// scene point keeps its paths wherever it lands in the list (ScenePoints::ids).
+TEST(PathTracer, TracedIrradianceFollowsItsKeysNotItsRows) {
+    const Scene s = builtin_scene("cornell-box");
+    const EmbreeAccel accel(s);
+    PathTracerConfig cfg;
+    cfg.seed = 7;
+    const PathTracer pt(accel, cfg);
+    const size_t n = 6;
+    std::vector<float> rows;
+    for (size_t i = 0; i < n; ++i) rows.insert(rows.end(), {0.05f + 0.08f * float(i), 0.f, 0.3f, 0.f, 1.f, 0.f});
+    const std::vector<uint64_t> keys{11, 3, 900, 42, 7, 1 << 20}, counting{0, 1, 2, 3, 4, 5};
+    std::vector<Vec3f> d(n), e(n), dk(n), ek(n), d0(n), e0(n), dp(n), ep(n);
+    trace_irradiance(pt, rows.data(), 6, n, 4, d.data(), e.data());
+    trace_irradiance(pt, rows.data(), 6, n, 4, d0.data(), e0.data(), counting.data());
+    trace_irradiance(pt, rows.data(), 6, n, 4, dk.data(), ek.data(), keys.data());
+    for (size_t i = 0; i < n; ++i) EXPECT_TRUE(d0[i] == d[i] && e0[i] == e[i]) << i;
+    const size_t order[n] = {4, 0, 5, 2, 1, 3};   // row i of the permuted table is row order[i]
+    std::vector<float> prow;
+    std::vector<uint64_t> pkeys;
+    for (size_t i : order) prow.insert(prow.end(), rows.begin() + ptrdiff_t(i * 6), rows.begin() + ptrdiff_t(i * 6 + 6)), pkeys.push_back(keys[i]);
+    trace_irradiance(pt, prow.data(), 6, n, 4, dp.data(), ep.data(), pkeys.data());
+    bool moved = false;
+    for (size_t i = 0; i < n; ++i) {
+        EXPECT_TRUE(dp[i] == dk[order[i]] && ep[i] == ek[order[i]]) << i;
+        moved |= !(ek[i] == e[i]);
+    }
+    EXPECT_TRUE(moved) << "other keys, other paths";
 }
 
 // The camera image inside the furnace: every pixel sees L = Le/(1−ρ) (up to depth truncation).

@@ -96,8 +96,9 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
 /// scene: its own random streams (k_traced_inputs_seed, never a reference's or a record's), `accel`
 /// must outlive it; empty when the model has none. point_keys: [M] the streams of the scene points
 /// it will be given (ScenePoints::ids: the same point on the same stream in any unit); empty: point
-/// i on stream i (a record's points, which carry no identity). Its rays' offsets scale with the
-/// scene's extent (PathTracerConfig::offset_length).
+/// i on stream i (the trainer's draws: statistically the same, and a record's points carry no
+/// identity). Its rays' offsets scale with the scene (PathTracerConfig::offset_length: 1 % of its
+/// extent).
 inline constexpr uint64_t k_traced_inputs_seed = 0x7ace5eed0001ull;
 PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &accel, std::vector<uint64_t> point_keys = {});
 /// The prior's Ê⁺ (nn/scene_frame.h prior_irradiance; with a skip w ≠ 0, folded_irradiance) as a

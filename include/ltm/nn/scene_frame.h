@@ -59,7 +59,8 @@ struct SceneFrame {
     double trace_seconds = 0;   ///< the tracing's and regather's share of the frame's time
     /// false: solved for the regather alone (solve_scene_frame's regather_only): `transport` holds
     /// the nodes, tree, rays and near field the regather gathers through, but not the prior's
-    /// bounces (its exitance is 0), so only the regather may be gathered (folded_irradiance at w = 1).
+    /// bounces (its exitance is 0) nor its clusters' pairwise visibility, so only the regather may be
+    /// gathered (folded_irradiance at w = 1).
     bool prior_solved = true;
 };
 

@@ -23,9 +23,9 @@ struct PathTracerConfig {
     int max_depth = 5;       ///< scattering events after the query point (paper: 5)
     int rr_depth = 5;        ///< Russian roulette from this many scattering events on (unbiased)
     /// Floor of the rays' self-intersection offset (render/ray.h offset_ray_origin), scene units:
-    /// 1 (a metre) for rendering; the scene's extent where the answer must not depend on the unit of
-    /// length (the model's traced inputs, infer/prior_model.h: with a metre's floor a 10 m house scaled
-    /// ×10 offsets its rays 8 % less, and the paths that graze an edge go elsewhere).
+    /// 1 (a metre) for rendering; a length of the scene's own where the answer must not depend on
+    /// the unit (the model's traced inputs, infer/prior_model.h: 1 % of the extent; with a metre's
+    /// floor a 10 m house scaled ×10 offsets its rays 8 % less, and paths that graze an edge go elsewhere).
     float offset_length = 1.f;
 };
 

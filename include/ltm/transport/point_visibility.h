@@ -91,7 +91,8 @@ struct VisibilityOptions {
     int open_rays = 0;
     /// Set: the prior's rows and gather take their visibility and closure from rays instead
     /// (transport/segment_occlusion.h, through the cluster tree: needs θ > 0); the clusters above are
-    /// still built for the directional gather (gather_transport_prior_radiance).
+    /// still built for the directional gather (gather_transport_prior_radiance), with their pairwise
+    /// visibility unless cluster_pairs is false.
     PriorRays rays;
     /// With rays: false builds the clusters alone (the tree's partition), not their pairwise
     /// visibility and closure, which only the directional gather reads — every pair then counts as
@@ -120,6 +121,9 @@ struct ClusterVisibility {
     /// [C] each centre's closure: the share of its cosine-weighted hemisphere that meets a surface
     /// (cluster_closure); empty: every cluster closed (1).
     std::vector<float> closure;
+    /// false: built without the pairwise visibility and closure (cluster_visibility's `pairs`): the
+    /// partition alone, for a tree whose visibility is by rays; a receiver's view of it is refused.
+    bool pairs = true;
     static constexpr int k_candidates = 8;   ///< facing centres a receiver considers
     bool empty() const { return position.empty(); }
     size_t size() const { return position.size(); }
