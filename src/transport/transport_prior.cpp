@@ -477,8 +477,9 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
     double t_spacing = 0;
     ClusterVisibility v;
     const bool pairs = !vis.rays || vis.cluster_pairs;   // with rays, only the directional gather reads them
-    bool with_discs = false;
-    if (vis.voxel > 0.f || vis.voxel_spacings > 0.f) {
+    const bool clusters = vis.voxel > 0.f || vis.voxel_spacings > 0.f, discs = vis.disc_spacings > 0.f;
+    if (vis.open_rays > 0 && !(clusters && discs)) LTM_THROW("transport prior: open_rays needs occlusion by discs");
+    if (clusters) {
         std::vector<Vec3f> op, on;
         if (occupancy) {
             if (occupancy->columns != scene_point_columns()) LTM_THROW("transport prior: occupancy is not a scene point table");
@@ -498,15 +499,12 @@ TransportPrior solve_transport_prior(const PointSet &sp, float node_area, int bo
         // κ·M voxels of edge h at h = s (κ = 0.71, 0.68–0.75 on 6 validation houses), so
         // g = h·√(2·n_solid/C) becomes s·√(2·κ·M/C), whatever the voxel edge. 0: from the voxels.
         constexpr double k_voxels_per_point = 0.71;
-        const bool discs = vis.disc_spacings > 0.f;
         const float cell =
             discs ? float(double(spacing) * std::sqrt(2.0 * k_voxels_per_point * double(op.size()) / double(vis.clusters))) : 0.f;
         v = cluster_visibility(p, n, VoxelOccupancy(op, on, h, vis.splat_spacings * spacing), vis.clusters,
                                discs ? DiscOccluder(op, on, vis.disc_spacings * spacing) : DiscOccluder(), cell, pairs);
         if (vis.open_rays > 0 && discs && pairs) v.closure = cluster_closure(v, DiscOccluder(op, on, k_closure_disc_spacings * spacing), vis.open_rays);
-        with_discs = discs;
     }
-    if (vis.open_rays > 0 && !with_discs) LTM_THROW("transport prior: open_rays needs occlusion by discs");
     v.blend = vis.blend;
     const auto t1 = Clock::now();
     TransportPrior out = solve_transport_prior(p, n, rho, le, node_area, bounces, std::move(v), balance, patches, theta,
