@@ -178,13 +178,19 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
                 continue;
             }
             const ModelConfig &cfg = models[mi].model->cfg;
+            // One sample of the scene points for both frames (the same points either way: both
+            // would draw them from opt.seed); each frame's time counts the sampling.
             auto t = Clock::now();
-            PriorScene r = encode_prior_scene(cfg, accel, opt.seed, opt.exclude_enclosed, Vec3f(1.f));
-            encode_s[mi] = seconds_since(t), points[mi] = r.n_scene_points;
+            ScenePoints sampled = sample_scene_points(accel, cfg.scene_points, opt.seed, opt.exclude_enclosed);
+            const double sample_s = seconds_since(t);
+            ScenePoints for_prior{sampled.points, sampled.emission_scale, {}};   // the prior alone traces nothing: no ids
+            t = Clock::now();
+            PriorScene r = encode_prior_scene(cfg, accel, std::move(sampled), Vec3f(1.f), sample_s);
+            encode_s[mi] = sample_s + seconds_since(t), points[mi] = r.n_scene_points;
             regather[mi] = prior_decoder(std::make_shared<const SceneFrame>(std::move(r.frame)), nullptr, Vec3f(1.f));   // it holds the frame
             t = Clock::now();
-            PriorScene p = encode_prior_scene(cfg, accel, opt.seed, opt.exclude_enclosed);
-            prior_s[mi] = seconds_since(t);
+            PriorScene p = encode_prior_scene(cfg, accel, std::move(for_prior), Vec3f(0.f), sample_s);
+            prior_s[mi] = sample_s + seconds_since(t);
             prior_only[mi] = prior_decoder(std::make_shared<const SceneFrame>(std::move(p.frame)), nullptr);
         }
         for (int v = 0; v < opt.views; ++v) {

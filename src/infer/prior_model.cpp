@@ -94,7 +94,7 @@ PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &acce
     // The rays' offset floor in the scene's own length, so the traced light does not depend on the
     // unit: 1 % of its extent (a metre's floor for a 100 m scene; the whole extent would offset a
     // room beside a 1 km ground plane by 10 cm, through thin walls).
-    tc.offset_length = std::max(1e-2f * max_component(accel.scene().bounds().extent()), 1e-30f);
+    tc.offset_length = std::max(1e-2f * accel.scene().extent(), 1e-30f);
     auto pt = std::make_shared<const PathTracer>(accel, tc);
     const int strata = cfg.traced_inputs;
     return [pt, strata, keys = std::move(point_keys)](const float *rows, size_t n, Vec3f *direct, Vec3f *indirect) {
@@ -107,15 +107,20 @@ PointTracer traced_inputs_tracer(const ModelConfig &cfg, const EmbreeAccel &acce
 
 PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed, Vec3f skip) {
     // The steps of the tensor model's encode_scene (infer/neural_renderer.h), on plain arrays.
-    PriorScene s;
-    auto t = Clock::now();
+    const auto t = Clock::now();
     ScenePoints sampled = sample_scene_points(accel, cfg.scene_points, seed, exclude_enclosed);
+    const double sample_seconds = seconds_since(t);
+    return encode_prior_scene(cfg, accel, std::move(sampled), skip, sample_seconds);
+}
+
+PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, ScenePoints sampled, Vec3f skip, double sample_seconds) {
+    PriorScene s;
     s.spacing = nominal_spacing(accel.scene(), int64_t(sampled.points.size()));
     s.points = std::move(sampled.points);
     s.n_scene_points = int64_t(s.points.size());
     if (s.points.n_columns() != 12) LTM_THROW("scene points: expected 12 columns, got ", s.points.n_columns());
-    s.sample_seconds = seconds_since(t);
-    t = Clock::now();
+    s.sample_seconds = sample_seconds;
+    auto t = Clock::now();
     const size_t m = s.points.size();
     std::vector<float> pos(m * 3);
     for (size_t i = 0; i < m; ++i)

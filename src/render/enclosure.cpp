@@ -68,7 +68,7 @@ bool is_enclosed(const EmbreeAccel &accel, Vec3f p, Vec3f n, const EnclosureTest
 
 SampleFilter enclosed_filter(const EmbreeAccel &accel, const EnclosureTest &config) {
     EnclosureTest cfg = config;
-    cfg.offset_length = std::max(max_component(accel.scene().bounds().extent()), 1e-30f);
+    cfg.offset_length = std::max(accel.scene().extent(), 1e-30f);
     auto air = std::make_shared<const ReachableAir>(accel.scene());
     cfg.air = air.get();
     return [&accel, cfg, air](SurfaceSample &s) {

@@ -15,6 +15,11 @@ Bounds3f Scene::bounds() const {
     return b;
 }
 
+float Scene::extent() const {
+    const Bounds3f b = bounds();
+    return b.empty() ? 0.f : max_component(b.extent());
+}
+
 size_t Scene::n_triangles() const {
     size_t n = 0;
     for (const auto &m : meshes) n += m.n_triangles();

@@ -1,5 +1,7 @@
 // scene_transform_test.cpp: the whole-scene probes of the physics checks change exactly what
 // they say: emission × k, lengths × s (area × s², textures on the same points), recoloured shells.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "ltm/core/error.h"
@@ -30,6 +32,16 @@ TEST(SceneTransform, LengthsScaleAreaByTheSquareAndKeepUvs) {
         EXPECT_TRUE(s.meshes[0].uvs[i].x == before.meshes[0].uvs[i].x && s.meshes[0].uvs[i].y == before.meshes[0].uvs[i].y);
     EXPECT_EQ(s.cameras[0].eye.x, 10.f * before.cameras[0].eye.x);
     EXPECT_THROW(scale_lengths(s, 0.f), Error);
+}
+
+TEST(SceneTransform, TheScenesExtentIsItsLongestSideAndScalesWithTheUnit) {
+    EXPECT_EQ(Scene{}.extent(), 0.f);   // no meshes: no length, not -inf
+    Scene s = quad_light_room();
+    const Vec3f e = s.bounds().extent();
+    EXPECT_EQ(s.extent(), std::max({e.x, e.y, e.z}));
+    const float before = s.extent();
+    scale_lengths(s, 10.f);
+    EXPECT_NEAR(s.extent(), 10.f * before, 1e-5f * s.extent());
 }
 
 TEST(SceneTransform, RecolorTouchesRoomShellsOnly) {

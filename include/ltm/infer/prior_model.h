@@ -17,6 +17,7 @@
 #include "ltm/nn/model_config.h"
 #include "ltm/nn/scene_frame.h"
 #include "ltm/render/embree_accel.h"
+#include "ltm/render/scene_points.h"
 
 namespace ltm {
 
@@ -92,6 +93,9 @@ std::shared_ptr<const SegmentOcclusion> prior_occlusion(const ModelConfig &cfg, 
 /// (solve_scene_frame's regather_only: the frame serves folded_irradiance at that skip only).
 PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, uint64_t seed, bool exclude_enclosed = true,
                               Vec3f skip = Vec3f(0.f));
+/// The same over points already sampled (sample_scene_points at cfg.scene_points), e.g. one sample
+/// shared by two frames; sample_seconds is reported as the scene's PriorScene::sample_seconds.
+PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, ScenePoints sampled, Vec3f skip, double sample_seconds = 0);
 /// The tracer of a model's traced inputs (ModelConfig::traced_inputs strata per scene point) in this
 /// scene: its own random streams (k_traced_inputs_seed, never a reference's or a record's), `accel`
 /// must outlive it; empty when the model has none. point_keys: [M] the streams of the scene points

@@ -20,6 +20,9 @@ struct Scene {
     nlohmann::ordered_json metadata = nlohmann::ordered_json::object();  ///< free-form provenance
 
     Bounds3f bounds() const;
+    /// The scene's own length: the longest side of its bounds (0 for an empty scene). Lengths that
+    /// must not depend on the unit (ray offsets, probe distances) are fractions of it.
+    float extent() const;
     size_t n_triangles() const;
     double total_area() const;
     /// Index of the material with this name, or -1.
