@@ -8,7 +8,9 @@
 #            disjoint from every test range (900000+, 930000+, 983500+) and from data/mix, data/plain.
 #   2. RUN   small-pi-traced-q from small-pi-regather (body silent, skip 1: step 0 is R alone), the
 #            skip frozen, 2 point sets a house, level-l2 (the view metric's weighting) capped at 4.
-# Env: LTM (a copy of the binary, so the frame cache survives rebuilds), RUN (runs/clean), STEPS
+# Env: LTM (a copy of the binary, so the frame cache survives rebuilds), RUN (runs/clean), MODEL (the config
+# trained into: configs/model/small-pi-traced-q-held.json holds R's level over 64 points, so the body
+# can only correct R's shape — session 42's next run), STEPS
 # (3000), LR (3e-4), FRAMES (data/frames-clean), EXTRA (more `ltm train` options).
 # Then: scripts/runs/eval-model.sh on RUN/step-N (exported), against small-pi-regather.
 set -euo pipefail
@@ -19,7 +21,7 @@ FRAMES=${FRAMES:-data/frames-clean}
 "$LTM" dataset build --config configs/data/cpu-s1024c.json --seed-range 440000:440060 -o data/clean
 "$LTM" dataset build --config configs/data/cpu-s1024c.json --seed-range 440060:440064 -o data/clean-val
 "$LTM" dataset build --config configs/data/cpu-s1024c-mix.json --seed-range 450000:450032 -o data/clean-mix
-train=("$LTM" train --threads 2 --model configs/model/small-pi-traced-q.json --data data/clean --data data/clean-mix
+train=("$LTM" train --threads 2 --model "${MODEL:-configs/model/small-pi-traced-q.json}" --data data/clean --data data/clean-mix
   --val-data data/clean-val --out "$RUN" --config configs/train/physics.json --steps "${STEPS:-3000}" --set lr="${LR:-3e-4}"
   --set warmup_steps=50 --set scenes_per_step=1 --set batch_queries=4096 --set loss=level-l2 --set level_cap=4
   --set target_cap=8 --set grad_clip=0.1 --set point_sets=2 --set resample_points=true --set val_scenes=4 --set val_every=200

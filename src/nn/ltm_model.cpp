@@ -117,8 +117,6 @@ LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
         LTM_THROW("model '", cfg.name, "': traced inputs need prior_inputs (they stand beside the prior's own)");
     if (cfg.traced_queries && cfg.traced_inputs <= 0)
         LTM_THROW("model '", cfg.name, "': traced queries need traced_inputs > 0 (the traced light they regather)");
-    if (cfg.traced_queries && cfg.decoder.level_points > 0)
-        LTM_THROW("model '", cfg.name, "': traced queries do not combine with decoder.level_points");
     cfg.encoder.in_channels = cfg.embedding.dim;
     cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
     cfg.embedding.extra_inputs = cfg.decoder.extra_inputs = cfg.prior_inputs ? 3 : 0;
@@ -193,6 +191,13 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
         out.level_scale = out.norm.point_prior.defined() ? out.norm.point_prior.index_select(0, first)
                                                          : output_scale(out.level_queries, out.norm);
         out.level_scale = out.level_scale.expand({out.level_queries.size(0), 3});                    // [K, 3]
+        if (cfg.traced_queries) {
+            // The level held is R's (level_factor): R at the same points, from the frame's per-point
+            // regather (point_traced's second half) or gathered here.
+            if (out.norm.point_traced.defined()) out.level_regathered = out.norm.point_traced.index_select(0, first).slice(1, 3, 6);
+            else if (out.norm.regather) out.level_regathered = regathered_scale(out.level_queries, out.norm);
+            else LTM_THROW("encode: decoder.level_points with traced queries needs R at the scene points (make the frame with its path tracer)");
+        }
     }
     if (fold && !directional) {
         // The decoder's output does not depend on the latents (fold_prior in the header).
@@ -286,6 +291,14 @@ torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const Scen
 torch::Tensor LtmModelImpl::level_factor(const SceneLatents &latents) {
     if (cfg.decoder.level_points <= 0) return {};
     if (!latents.level_queries.defined()) LTM_THROW("level_factor: the latents have no level queries (make them with encode)");
+    if (cfg.traced_queries) {
+        // R's level: r = Σ R / Σ S g over the level points, so the body corrects R's shape only
+        // (at a silent body S g = R and r = 1).
+        if (!latents.level_regathered.defined()) LTM_THROW("level_factor: the latents have no regathered prior at their level queries (make them with encode)");
+        const auto g = torch::expm1(decode_network(latents.level_queries, latents, latents.level_scale, latents.level_regathered));   // [K, 3]
+        const auto s = latents.level_scale.to(g.device(), g.scalar_type()), r = latents.level_regathered.to(g.device(), g.scalar_type());
+        return r.sum() / (s * g).sum().clamp_min(1e-30);
+    }
     const auto g = torch::expm1(decode_network(latents.level_queries, latents, latents.level_scale));   // [K, 3]
     const auto s = latents.level_scale.to(g.device(), g.scalar_type());
     return s.sum() / (s * g).sum().clamp_min(1e-30);

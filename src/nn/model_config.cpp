@@ -27,7 +27,7 @@ const ConfigFields<DecoderConfig> &DecoderConfig::fields() {
             .field("groups", &C::groups, "G weight groups of grouped vector attention (PTv2); divides dim", at_least(1))
             .field("ffn_ratio", &C::ffn_ratio, "hidden width of each block's FFN = ffn_ratio · dim", between(1, 64))
             .omit_default()
-            .field("level_points", &C::level_points, "K > 0: the output keeps the prior's level over the K first anchors (0: free)", at_least(0))
+            .field("level_points", &C::level_points, "K > 0: the output keeps the prior's level over the K first anchors (with traced_queries, the regathered prior's; 0: free)", at_least(0))
             .omit_default();
     return f;
 }
@@ -91,7 +91,7 @@ const ConfigFields<ModelConfig> &ModelConfig::fields() {
                                          .omit_default()
                                          .field("traced_inputs", &C::traced_inputs, "> 0: paths traced per scene point (strata); every scene point also carries its traced E⁺ and the prior regathered from the traced light, in the prior inputs' normalisation (needs prior_inputs; inference and training trace the scene)", between(0, 4096))
                                          .omit_default()
-                                         .field("traced_queries", &C::traced_queries, "with traced_inputs: every query also carries ln(R / Ê), the regathered prior's ratio to the prior there, as an input and through a learned per-channel skip to the output (needs traced_inputs; not with decoder.level_points)")
+                                         .field("traced_queries", &C::traced_queries, "with traced_inputs: every query also carries ln(R / Ê), the regathered prior's ratio to the prior there, as an input and through a learned per-channel skip to the output (needs traced_inputs; with decoder.level_points the level held is the regathered prior's)")
                                          .omit_default()
                                          .field("auto_scene_points", &C::auto_scene_points, "at inference the point count follows each scene as --scene-points auto does, unless --scene-points is given (training uses scene_points)")
                                          .omit_default();
@@ -164,8 +164,6 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
         LTM_THROW(o.where("traced_inputs"), ": traced inputs need prior_inputs (they stand beside the prior's own, in its normalisation)");
     if (c.traced_queries && c.traced_inputs <= 0)
         LTM_THROW(o.where("traced_queries"), ": traced queries need traced_inputs > 0 (the traced light they regather)");
-    if (c.traced_queries && c.decoder.level_points > 0)
-        LTM_THROW(o.where("traced_queries"), ": traced queries do not combine with decoder.level_points (the level queries carry no regathered prior)");
     if (c.directional && c.directional->prior_cells > 0 && c.physics.prior_field != "transport")
         LTM_THROW(o.where("directional"), ": prior_cells needs physics.prior_field \"transport\" (the directional prior splits its gather)");
 }

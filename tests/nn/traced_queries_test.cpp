@@ -4,6 +4,7 @@
 // regathered prior exactly; at skip 0 it is its prior (and folds); the fused decoder and libtorch
 // agree; the column keeps the exact symmetries; the trainer's cached R is the gathered one. The
 // trainer's side (the widening conversion, skip_lr_scale): tests/train/trainer_test.cpp.
+#include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -43,7 +44,7 @@ TEST(TracedQueries, ConfigNeedsTracedInputsAndStaysOutOfOlderJson) {
     EXPECT_THROW(ModelConfig::from_json(untraced, "t"), Error);
     auto held = j;
     held["decoder"]["level_points"] = 64;
-    EXPECT_THROW(ModelConfig::from_json(held, "t"), Error) << "the level queries carry no regathered prior";
+    EXPECT_EQ(ModelConfig::from_json(held, "t").decoder.level_points, 64) << "the level held is R's (LevelPointsHoldRsLevel)";
     ModelConfig plain = f.cfg;
     plain.traced_queries = false;
     EXPECT_FALSE(plain.to_json().contains("traced_queries")) << "written only when set: older weights keep their JSON";
@@ -57,9 +58,39 @@ TEST(TracedQueries, ConfigNeedsTracedInputsAndStaysOutOfOlderJson) {
     ModelConfig untraced_code = f.cfg;
     untraced_code.traced_inputs = 0;
     EXPECT_THROW(LtmModel{untraced_code}, Error);
-    ModelConfig held_code = f.cfg;
-    held_code.decoder.level_points = 64;
-    EXPECT_THROW(LtmModel{held_code}, Error);
+}
+
+// decoder.level_points with traced queries holds R's level, not the prior's: a random body (not
+// silent) keeps Σ E⁺ = Σ R over the level points (the body corrects R's shape only), through the
+// fused decoder and libtorch; its queries elsewhere still move.
+TEST(TracedQueries, LevelPointsHoldRsLevel) {
+    Fixture f;
+    f.cfg.decoder.level_points = 64;
+    LtmModel m = random_model(f.cfg, 11);
+    set_skip(m, 1.f);
+    m->fold_prior = false;
+    ASSERT_FALSE(m->decoder->body_silent());
+    torch::NoGradGuard g;
+    const EmbreeAccel accel(f.scene);
+    const auto geometry = m->scene_geometry(f.sp);
+    const SceneLatents lat = m->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    ASSERT_TRUE(lat.level_regathered.defined());
+    ASSERT_EQ(lat.level_regathered.sizes(), (c10::IntArrayRef{64, 3}));
+    EXPECT_LT(test::relative_error(lat.level_regathered, regathered_scale(lat.level_queries, lat.norm)), 1e-5)
+        << "the frame's per-point R is the gathered one";
+    const auto at_level = m->predict_irradiance(lat.level_queries, lat);
+    const double held = at_level.sum().item<double>(), r = lat.level_regathered.sum().item<double>();
+    EXPECT_NEAR(held, r, 1e-4 * r) << "R's level over the level points";
+    m->fused_inference = false;
+    EXPECT_NEAR(m->predict_irradiance(lat.level_queries, lat).sum().item<double>(), r, 1e-4 * r) << "libtorch";
+    // Without the hold, the same body moves the level: the test above is not vacuous.
+    ModelConfig free_cfg = f.cfg;
+    free_cfg.decoder.level_points = 0;
+    LtmModel free = random_model(free_cfg, 11);
+    set_skip(free, 1.f);
+    free->fold_prior = false;
+    const SceneLatents free_lat = free->encode(f.sp, free->scene_geometry(f.sp), {}, nullptr, nullptr, traced_inputs_tracer(free_cfg, accel));
+    EXPECT_GT(std::abs(free->predict_irradiance(lat.level_queries, free_lat).sum().item<double>() - r), 1e-3 * r);
 }
 
 // softplus(ln g) = ln(1 + g): with 𝓦_out zero and skip 1, E⁺ = Ê · g = R at every query, through

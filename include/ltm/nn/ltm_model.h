@@ -69,6 +69,9 @@ struct SceneLatents {
     /// decoder.level_points = K > 0: the K first FPS centres as raw queries [K, 9] and the prior
     /// there [K, 3], where the model holds its prior's level (LtmModelImpl::level_factor).
     torch::Tensor level_queries, level_scale;
+    /// With traced_queries: the regathered prior R at the level queries [K, 3], whose level is held
+    /// instead of the prior's (the body corrects R's shape, not its level).
+    torch::Tensor level_regathered;
     /// The encoder's inputs when its run is deferred: a model with a silent body (at its prior, or
     /// with only the traced-queries skip) and a directional head (fold_prior), whose features only the head reads — and most frames never call it (a scene
     /// without conductors, `--glossy trace`). Shared, so copies of the latents compute them once.
@@ -142,7 +145,8 @@ struct LtmModelImpl : torch::nn::Module {
     torch::Tensor decode(const torch::Tensor &query_points, const SceneLatents &latents, const torch::Tensor &scale = {},
                          const torch::Tensor &regathered = {});
     /// The factor that holds the prior's level (DecoderConfig::level_points): with g = expm1(z_net)
-    /// at the latents' level queries and S the prior there,  r = Σ_{i,c} S_ic / Σ_{i,c} S_ic g_ic.
+    /// at the latents' level queries and S the prior there,  r = Σ_{i,c} S_ic / Σ_{i,c} S_ic g_ic;
+    /// with traced_queries R's level instead,  r = Σ_{i,c} R_ic / Σ_{i,c} S_ic g_ic.
     /// 1 (up to rounding) for a decoder at its prior. Invariant to emission and unit like S and g.
     ///   -> [] (a scalar tensor; defined only with level_points > 0)
     torch::Tensor level_factor(const SceneLatents &latents);
