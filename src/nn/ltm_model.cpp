@@ -191,9 +191,10 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
         out.level_scale = out.norm.point_prior.defined() ? out.norm.point_prior.index_select(0, first)
                                                          : output_scale(out.level_queries, out.norm);
         out.level_scale = out.level_scale.expand({out.level_queries.size(0), 3});                    // [K, 3]
-        if (cfg.traced_queries) {
+        if (cfg.traced_queries && !fold) {
             // The level held is R's (level_factor): R at the same points, from the frame's per-point
-            // regather (point_traced's second half) or gathered here.
+            // regather (point_traced's second half) or gathered here. A fold never reads the level
+            // (and at its prior traces nothing).
             if (out.norm.point_traced.defined()) out.level_regathered = out.norm.point_traced.index_select(0, first).slice(1, 3, 6);
             else if (out.norm.regather) out.level_regathered = regathered_scale(out.level_queries, out.norm);
             else LTM_THROW("encode: decoder.level_points with traced queries needs R at the scene points (make the frame with its path tracer)");
@@ -291,17 +292,14 @@ torch::Tensor LtmModelImpl::decode(const torch::Tensor &query_points, const Scen
 torch::Tensor LtmModelImpl::level_factor(const SceneLatents &latents) {
     if (cfg.decoder.level_points <= 0) return {};
     if (!latents.level_queries.defined()) LTM_THROW("level_factor: the latents have no level queries (make them with encode)");
-    if (cfg.traced_queries) {
-        // R's level: r = Σ R / Σ S g over the level points, so the body corrects R's shape only
-        // (at a silent body S g = R and r = 1).
-        if (!latents.level_regathered.defined()) LTM_THROW("level_factor: the latents have no regathered prior at their level queries (make them with encode)");
-        const auto g = torch::expm1(decode_network(latents.level_queries, latents, latents.level_scale, latents.level_regathered));   // [K, 3]
-        const auto s = latents.level_scale.to(g.device(), g.scalar_type()), r = latents.level_regathered.to(g.device(), g.scalar_type());
-        return r.sum() / (s * g).sum().clamp_min(1e-30);
-    }
-    const auto g = torch::expm1(decode_network(latents.level_queries, latents, latents.level_scale));   // [K, 3]
+    // With traced queries R's level is held (r = Σ R / Σ S g: the body corrects R's shape only; at a
+    // silent body S g = R and r = 1), else the prior's.
+    if (cfg.traced_queries && !latents.level_regathered.defined())
+        LTM_THROW("level_factor: the latents have no regathered prior at their level queries (make them with encode, unfolded)");
+    const auto g = torch::expm1(decode_network(latents.level_queries, latents, latents.level_scale, latents.level_regathered));   // [K, 3]
     const auto s = latents.level_scale.to(g.device(), g.scalar_type());
-    return s.sum() / (s * g).sum().clamp_min(1e-30);
+    const auto held = cfg.traced_queries ? latents.level_regathered.to(g.device(), g.scalar_type()) : s;
+    return held.sum() / (s * g).sum().clamp_min(1e-30);
 }
 
 torch::Tensor LtmModelImpl::predict_irradiance(const torch::Tensor &query_points, const SceneLatents &latents,

@@ -91,6 +91,14 @@ TEST(TracedQueries, LevelPointsHoldRsLevel) {
     free->fold_prior = false;
     const SceneLatents free_lat = free->encode(f.sp, free->scene_geometry(f.sp), {}, nullptr, nullptr, traced_inputs_tracer(free_cfg, accel));
     EXPECT_GT(std::abs(free->predict_irradiance(lat.level_queries, free_lat).sum().item<double>() - r), 1e-3 * r);
+    // At its prior (skip 0, body silent) the model folds and traces nothing: the level, never read
+    // there, must not ask for R.
+    LtmModel at_prior = random_model(f.cfg, 11);
+    at_prior->decoder->start_at_prior();
+    set_skip(at_prior, 0.f);
+    const SceneLatents folded = at_prior->encode(f.sp, geometry, {}, nullptr, nullptr, traced_inputs_tracer(f.cfg, accel));
+    EXPECT_FALSE(folded.norm.regather);
+    EXPECT_TRUE(torch::equal(at_prior->predict_irradiance(f.qp, folded), prior_irradiance(f.qp, folded.norm)));
 }
 
 // softplus(ln g) = ln(1 + g): with 𝓦_out zero and skip 1, E⁺ = Ê · g = R at every query, through
