@@ -10,7 +10,9 @@
 #            skip frozen, 2 point sets a house, level-l2 (the view metric's weighting) capped at 4.
 # Env: LTM (a copy of the binary, so the frame cache survives rebuilds), RUN (runs/clean), MODEL (the config
 # trained into: configs/model/small-pi-traced-q-held.json holds R's level over 64 points, so the body
-# can only correct R's shape — session 42's next run), STEPS
+# can only correct R's shape — session 42's next run; configs/model/small-pi-rp.json reads R as its
+# prior, session 43: with INIT=models/experimental/small-pi.safetensors AT_PRIOR=1: the body silenced, step 0 is R), INIT (the
+# weights the run starts from, small-pi-regather), STEPS
 # (3000), LR (3e-4), FRAMES (data/frames-clean), EXTRA (more `ltm train` options).
 # Then: scripts/runs/eval-model.sh on RUN/step-N (exported), against small-pi-regather.
 set -euo pipefail
@@ -27,4 +29,4 @@ train=("$LTM" train --threads 2 --model "${MODEL:-configs/model/small-pi-traced-
   --set target_cap=8 --set grad_clip=0.1 --set point_sets=2 --set resample_points=true --set val_scenes=4 --set val_every=200
   --set ckpt_every=50 --set keep_val_checkpoints=true --set skip_lr_scale=0 --frame-cache "$FRAMES" ${EXTRA:-})
 if [[ -f "$RUN/last.ltmckpt" ]]; then "${train[@]}" --resume
-else "${train[@]}" --init models/experimental/small-pi-regather.safetensors; fi
+else "${train[@]}" --init "${INIT:-models/experimental/small-pi-regather.safetensors}" ${AT_PRIOR:+--start-at-prior}; fi

@@ -181,11 +181,11 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             // One sample of the scene points for both frames (the same points either way: both
             // would draw them from opt.seed); each frame's time counts the sampling.
             auto t = Clock::now();
-            ScenePoints sampled = sample_scene_points(accel, cfg.scene_points, opt.seed, opt.exclude_enclosed);
+            ScenePoints drawn = sample_scene_points(accel, cfg.scene_points, opt.seed, opt.exclude_enclosed);
             const double sample_s = seconds_since(t);
-            ScenePoints for_prior{sampled.points, sampled.emission_scale, {}};   // the prior alone traces nothing: no ids
+            ScenePoints for_prior{drawn.points, drawn.emission_scale, {}};   // the prior alone traces nothing: no ids
             t = Clock::now();
-            PriorScene r = encode_prior_scene(cfg, accel, std::move(sampled), Vec3f(1.f), sample_s);
+            PriorScene r = encode_prior_scene(cfg, accel, std::move(drawn), Vec3f(1.f), sample_s);
             encode_s[mi] = sample_s + seconds_since(t), points[mi] = r.n_scene_points;
             regather[mi] = prior_decoder(std::make_shared<const SceneFrame>(std::move(r.frame)), nullptr, Vec3f(1.f));   // it holds the frame
             t = Clock::now();
@@ -204,8 +204,8 @@ EvalReport run_evaluation(const std::vector<EvalScene> &scenes, std::vector<Eval
             const Image ref = reference_image(es, cam, gb, pt_ref, tracer_config(EvalRole::reference), opt, &vr);
             if (opt.reference_noise) vr.reference_noise_mse = view_reference_noise(es, accel, cam, gb, ref, opt);
             const std::vector<Vec3f> ref_hits = gather_hits(gb, ref);
-            auto add = [&](const std::string &method, const Image &img, double secs, int spp, int64_t points = 0) {
-                vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits), points});
+            auto add = [&](const std::string &method, const Image &img, double secs, int spp, int64_t n_points = 0) {
+                vr.methods.push_back({method, compare_images(img, ref), secs, spp, compare_fields(gather_hits(gb, img), ref_hits), n_points});
             };
             std::vector<Image> model_images;
             double first_model_seconds = 0;

@@ -131,7 +131,7 @@ PriorScene encode_prior_scene(const ModelConfig &cfg, const EmbreeAccel &accel, 
     // physics.prior_rays: the prior's visibility by rays against this scene's meshes.
     // A folded skip: the traced paths and the regather for the queries only (no encoder reads the
     // points'); at w = 1 without the prior's bounces (R alone is read).
-    const bool regather = !(skip == Vec3f(0.f));
+    const bool regather = !(skip == Vec3f(0.f)) || cfg.physics.prior_regathered;   // R is read, or is the prior itself
     s.frame = solve_scene_frame(s.points.values.data(), m, groups, cfg.physics, &sampled.emission_scale, prior_occlusion(cfg, accel),
                                 regather ? traced_inputs_tracer(cfg, accel, std::move(sampled.ids)) : PointTracer{}, /*point_inputs=*/false,
                                 /*regather_only=*/skip_reads_regather_alone(skip));

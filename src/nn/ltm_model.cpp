@@ -117,10 +117,14 @@ LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
         LTM_THROW("model '", cfg.name, "': traced inputs need prior_inputs (they stand beside the prior's own)");
     if (cfg.traced_queries && cfg.traced_inputs <= 0)
         LTM_THROW("model '", cfg.name, "': traced queries need traced_inputs > 0 (the traced light they regather)");
+    if (cfg.physics.prior_regathered && (!cfg.prior_inputs || cfg.traced_inputs <= 0 || cfg.traced_queries || cfg.decoder.level_points > 0))
+        LTM_THROW("model '", cfg.name, "': physics.prior_regathered needs prior_inputs and traced_inputs > 0, and not traced_queries or decoder.level_points");
     cfg.encoder.in_channels = cfg.embedding.dim;
     cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
     cfg.embedding.extra_inputs = cfg.decoder.extra_inputs = cfg.prior_inputs ? 3 : 0;
-    if (cfg.traced_inputs > 0) cfg.embedding.extra_inputs += 6;   // the traced E⁺ and the regathered prior at each point
+    // The traced E⁺ and the regathered prior at each point; with R as the prior the traced E⁺ is the
+    // points' prior input itself (the 3 above).
+    if (cfg.traced_inputs > 0 && !cfg.physics.prior_regathered) cfg.embedding.extra_inputs += 6;
     if (cfg.traced_queries) cfg.decoder.extra_inputs += 3, cfg.decoder.skip_inputs = 3;   // ln(R / Ê) at each query
     embedding = register_module("embedding", NNEmbedding(cfg.embedding));
     encoder = register_module("encoder", PTv3(cfg.encoder));
@@ -145,6 +149,14 @@ SceneNormalization LtmModelImpl::scene_frame(const torch::Tensor &scene_points, 
                                              const torch::Tensor &emission_scale,
                                              std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer,
                                              bool point_inputs) const {
+    if (cfg.physics.prior_regathered) {
+        // R is the prior (physics.prior_regathered): the points' prior input is their traced E⁺, which
+        // the regather reads anyway, so R is not gathered at the M points (point_inputs false below).
+        SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion), tracer,
+                                                   /*point_inputs=*/false);
+        if (point_inputs) n.point_prior = n.traced_light;
+        return n;
+    }
     SceneNormalization n = scene_normalization(scene_points, geometry, cfg.physics, emission_scale, std::move(occlusion),
                                                cfg.traced_inputs > 0 ? tracer : PointTracer{}, point_inputs);
     // Only the queries' column reads it (or a deferred encoder, which regathers at its points later):
@@ -169,7 +181,8 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
     // traced. A silent body with a skip reads the regather (traced), not the latents.
     // Folded, the per-point inputs are gathered only if a directional head asks (encoder_inputs).
     out.norm = frame ? *frame
-                     : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion), at_prior && !directional ? PointTracer{} : tracer,
+                     : scene_frame(scene_points, geometry, emission_scale, std::move(occlusion),
+                                   at_prior && !directional && !cfg.physics.prior_regathered ? PointTracer{} : tracer,
                                    /*point_inputs=*/!fold);
     // Named here, not later: a fold with a skip reads the regather (a frame given by the trainer carries
     // R at its queries instead), and a deferred head's encoder reads the traced light at the points.
@@ -221,6 +234,14 @@ SceneLatents LtmModelImpl::encode(const torch::Tensor &scene_points, const Scene
 
 torch::Tensor LtmModelImpl::encoder_inputs(torch::Tensor x, const torch::Tensor &rows, const SceneNormalization &norm) const {
     torch::Tensor prior = norm.point_prior, traced = norm.point_traced;
+    if (cfg.physics.prior_regathered) {
+        // The points' prior input is their traced E⁺ (scene_frame), a deferred encoder's too.
+        if (!prior.defined()) prior = norm.traced_light;
+        if (!prior.defined()) LTM_THROW("encode: the given frame has no traced light at the scene points (make it with scene_frame and the scene's path tracer)");
+        TORCH_CHECK(prior.dim() == 2 && prior.size(0) == x.size(0) && prior.size(1) == 3,
+                    "encode: point_prior must be [M, 3] for M = ", x.size(0), ", got ", prior.sizes());
+        return torch::cat({x, prior_features(prior, norm)}, 1);   // [M, 15]
+    }
     if (cfg.traced_inputs > 0 && !traced.defined() && norm.traced_light.defined()) {
         // A deferred encoder: the prior and the regather at every scene point, in one walk.
         if (!norm.regather) LTM_THROW("encode: the frame has the traced light but not its regather");

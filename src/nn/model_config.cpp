@@ -78,6 +78,8 @@ const ConfigFields<PhysicsConfig> &PhysicsConfig::fields() {
             .field("prior_theta", &C::prior_theta, "the transport prior through its cluster tree with this opening bound (0 = the dense rows)", between(0, 1))
             .omit_default()
             .field("prior_rays", &C::prior_rays, "the transport prior's visibility and closure by rays against the scene's meshes (needs prior_theta > 0)")
+            .omit_default()
+            .field("prior_regathered", &C::prior_regathered, "the prior is R, the transport's regather of the light traced at its nodes (no bounces solved); the points' prior input is their traced E⁺ (needs prior_inputs and traced_inputs; not with traced_queries or decoder.level_points)")
             .omit_default();
     return f;
 }
@@ -164,6 +166,12 @@ void ModelConfig::read_sections(JsonObject &o, ModelConfig &c) {
         LTM_THROW(o.where("traced_inputs"), ": traced inputs need prior_inputs (they stand beside the prior's own, in its normalisation)");
     if (c.traced_queries && c.traced_inputs <= 0)
         LTM_THROW(o.where("traced_queries"), ": traced queries need traced_inputs > 0 (the traced light they regather)");
+    if (c.physics.prior_regathered && (c.physics.prior_field != "transport" || !c.prior_inputs || c.traced_inputs <= 0))
+        LTM_THROW(o.where("physics"), ": prior_regathered needs prior_field \"transport\", prior_inputs and traced_inputs > 0 (R regathers the traced light)");
+    if (c.physics.prior_regathered && (c.traced_queries || c.decoder.level_points > 0))
+        LTM_THROW(o.where("physics"), ": prior_regathered replaces traced_queries' ln(R / Ê) and holds no level (decoder.level_points): not with either");
+    if (c.physics.prior_regathered && c.directional && c.directional->prior_cells > 0)
+        LTM_THROW(o.where("directional"), ": prior_cells splits the solved prior's gather, and physics.prior_regathered solves none");
     if (c.directional && c.directional->prior_cells > 0 && c.physics.prior_field != "transport")
         LTM_THROW(o.where("directional"), ": prior_cells needs physics.prior_field \"transport\" (the directional prior splits its gather)");
 }

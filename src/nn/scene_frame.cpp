@@ -158,6 +158,9 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
                              const Vec3f *emission_scale, std::shared_ptr<const SegmentOcclusion> occlusion, const PointTracer &tracer,
                              bool point_inputs, bool regather_only) {
     if (n_points == 0) LTM_THROW("scene points: none");
+    if (physics.prior_regathered && !tracer)
+        LTM_THROW("physics.prior_regathered: the prior is the regather of light traced through the scene, and this frame has no path tracer "
+                  "(render, eval, bake-gi and training pass it; scene points alone have none)");
     if (regather_only && (!tracer || point_inputs || physics.prior_field != "transport"))
         LTM_THROW("scene frame: regather_only needs a tracer and the transport prior, and no per-point inputs (they read the prior)");
     for (size_t i = 0; i < n_points * 12; ++i)
@@ -208,9 +211,11 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
             // Regather only: the nodes, tree, rays and near field the regather gathers through, without
             // the prior's bounces (its first walks from every node are most of the solve's time).
             // Nor the clusters' pairwise visibility: with rays only a directional head's gather reads it.
-            f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion), regather_only ? 0 : physics.prior_bounces,
-                                          /*cluster_pairs=*/!regather_only, nodes_are_points);
-            f.prior_solved = !regather_only;
+            // physics.prior_regathered reads the regather alone as its prior: the same structure.
+            const bool no_bounces = regather_only || physics.prior_regathered;
+            f.transport = solve_transport(sp, n_points, groups, f, physics, std::move(occlusion), no_bounces ? 0 : physics.prior_bounces,
+                                          /*cluster_pairs=*/!no_bounces, nodes_are_points);
+            f.prior_solved = !no_bounces;
             f.solve_seconds = seconds_since(t);
         }
     }
@@ -219,6 +224,12 @@ SceneFrame solve_scene_frame(const float *sp, size_t n_points, const PointGroups
         const auto t = std::chrono::steady_clock::now();
         trace_and_regather(sp, n_points, groups, nodes_are_points, tracer, point_inputs, f);
         f.trace_seconds = seconds_since(t);
+    }
+    if (physics.prior_regathered) {
+        // R is the prior: every gather of "the prior" (prior_scale_normalized, output_scale) reads
+        // the regather, whose transport shares the nodes, tree, rays and near field.
+        f.transport = f.regather;
+        f.prior_solved = true;
     }
     return f;
 }

@@ -290,7 +290,8 @@ Trainer::CachedScene &Trainer::scene(size_t index, int set) {
         std::optional<FrameCacheEntry> hit;
         auto look_up = [&] {   // once the draw's queries are known: an entry must hold the prior at each
             if (cacheable)
-                hit = m_frame_cache.load(cache_path, c->query_points.size(0), m_model_cfg.traced_inputs > 0, m_model_cfg.traced_queries);
+                hit = m_frame_cache.load(cache_path, c->query_points.size(0), m_model_cfg.traced_inputs > 0 && !m_model_cfg.physics.prior_regathered,
+                                         m_model_cfg.traced_queries);
         };
         PointSet points;
         // Points sampled afresh from the regenerated house as the record's were (its preset's rules),

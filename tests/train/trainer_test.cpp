@@ -762,6 +762,36 @@ TEST(Trainer, AFoldedFileFineTunes) {
     EXPECT_NO_THROW(b.run(false));
 }
 
+// physics.prior_regathered: weights with prior inputs load as they are (its inputs have their shapes)
+// and train; the draws' frames (the points' traced light, R at the queries) come
+// back from the frame cache and train the same losses, and a step moves the body off R.
+TEST(Trainer, RegatheredPriorLoadsPriorInputWeightsAndCachesItsFrames) {
+    test::TempDir dir;
+    ModelConfig rp = tiny_with_prior_inputs();
+    rp.traced_inputs = 2, rp.physics.prior_regathered = true;
+    save_perturbed_weights(tiny_with_prior_inputs(), dir);
+    const std::string cache = dir.path("cache");
+    auto train = [&](const std::string &run, double *silenced) {
+        Trainer b(rp, small_train(2), {dataset_dir()}, dir.path(run));
+        b.set_frame_cache(cache);
+        b.init_weights(dir.path("w.safetensors"));
+        b.model()->decoder->start_at_prior();
+        *silenced = b.validate();
+        b.run(false);
+        std::vector<double> out;
+        for (const auto &h : b.history()) out.push_back(h.loss);
+        out.push_back(b.validate());
+        return out;
+    };
+    double cold_r = 0, warm_r = 0;
+    const auto cold = train("cold", &cold_r);
+    const auto warm = train("warm", &warm_r);
+    EXPECT_EQ(cold_r, warm_r);
+    ASSERT_EQ(cold.size(), warm.size());
+    for (size_t i = 0; i < cold.size(); ++i) EXPECT_EQ(cold[i], warm[i]) << i;
+    EXPECT_NE(cold.back(), cold_r) << "two steps move the body off R";
+}
+
 // --init from weights with a directional head into a config without one (the traced presets, whose
 // draws cannot train a head): the head's tensors are left out and the irradiance model is the same.
 TEST(Trainer, InitIntoAConfigWithoutTheHeadLeavesTheHeadOut) {

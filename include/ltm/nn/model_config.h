@@ -163,6 +163,14 @@ struct PhysicsConfig {
     /// render, eval and bake-gi have them (`--prior-rays`); records for training do not. A run-time
     /// setting, like prior_theta.
     bool prior_rays = false;
+    /// The prior the output multiplies is the regather R — the transport's nodes re-emitting ρ ⊙ the
+    /// light traced at them (ModelConfig::traced_inputs paths a point), gathered once more — not the
+    /// solved prior: no bounces are solved (the frame costs the fold's, docs/performance.md), the
+    /// network corrects R, and a silenced network is R. The scene points' prior input is then
+    /// their traced E⁺ (what R re-emits; free once traced), the queries' is R. Needs prior_field
+    /// "transport" and the model's prior_inputs and traced_inputs; not with traced_queries (whose
+    /// ln(R / Ê) it replaces) or decoder.level_points. Inference and training trace the scene.
+    bool prior_regathered = false;
 
     static PhysicsConfig legacy() { return {false, false, 0, false, "flat", "anchors", 0.f, 1024, 0.f, "channel", 1, false, 0, 0.f}; }
     /// The JSON keys (core/config_fields.h); read over PhysicsConfig{} when "physics" is present.

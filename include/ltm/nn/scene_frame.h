@@ -76,6 +76,8 @@ struct SceneFrame {
 /// bounces are not solved (SceneFrame::prior_solved false; the walks from every node are most of a
 /// frame's time), nor, with the prior's rays, its clusters' pairwise visibility (read by a directional
 /// head's gather only: VisibilityOptions::cluster_pairs), and R is the same as with them.
+/// physics.prior_regathered: solved as regather_only, and `transport` is the regather (R is the
+/// prior every gather reads); needs the tracer.
 SceneFrame solve_scene_frame(const float *scene_points, size_t n_points, const PointGroups &groups, const PhysicsConfig &physics,
                              const Vec3f *emission_scale = nullptr, std::shared_ptr<const SegmentOcclusion> occlusion = {},
                              const PointTracer &tracer = {}, bool point_inputs = true, bool regather_only = false);
