@@ -117,8 +117,10 @@ LtmModelImpl::LtmModelImpl(const ModelConfig &c) : cfg(c) {
         LTM_THROW("model '", cfg.name, "': traced inputs need prior_inputs (they stand beside the prior's own)");
     if (cfg.traced_queries && cfg.traced_inputs <= 0)
         LTM_THROW("model '", cfg.name, "': traced queries need traced_inputs > 0 (the traced light they regather)");
-    if (cfg.physics.prior_regathered && (!cfg.prior_inputs || cfg.traced_inputs <= 0 || cfg.traced_queries || cfg.decoder.level_points > 0))
-        LTM_THROW("model '", cfg.name, "': physics.prior_regathered needs prior_inputs and traced_inputs > 0, and not traced_queries or decoder.level_points");
+    if (cfg.physics.prior_regathered && (!cfg.prior_inputs || cfg.traced_inputs <= 0 || cfg.traced_queries || cfg.decoder.level_points > 0 ||
+                                         (cfg.directional && cfg.directional->prior_cells > 0)))
+        LTM_THROW("model '", cfg.name, "': physics.prior_regathered needs prior_inputs and traced_inputs > 0, and not traced_queries, "
+                  "decoder.level_points or directional.prior_cells");
     cfg.encoder.in_channels = cfg.embedding.dim;
     cfg.embedding.absolute_position = cfg.decoder.absolute_position = !cfg.physics.translation_invariant;
     cfg.embedding.extra_inputs = cfg.decoder.extra_inputs = cfg.prior_inputs ? 3 : 0;

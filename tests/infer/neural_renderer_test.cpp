@@ -349,6 +349,31 @@ TEST(NeuralRenderer, AFoldAtOneIsTheRegatherWithoutThePriorsBounces) {
     EXPECT_TRUE(encode_prior_scene(pm.cfg, f.r.pt.accel(), f.opt.seed, true, Vec3f(0.7f, 1.f, 1.f)).frame.prior_solved);
 }
 
+// physics.prior_regathered at its prior (𝓦_out zero): the file reads as silenced, and `ltm` renders it
+// without libtorch by tracing the scene for R (encode_prior_scene) — the tensor model's render to float
+// rounding, and the same R a traced-queries file at skip 1 folds to.
+TEST(NeuralRenderer, ASilencedRegatheredPriorRendersRWithoutTorch) {
+    FoldedModel at_one(Vec3f(1.f));
+    ModelConfig cfg = at_one.pm.cfg;
+    cfg.traced_queries = false, cfg.physics.prior_regathered = true;
+    cfg.directional.reset();   // its prior_cells split the solved prior's gather: refused with R as the prior
+    torch::manual_seed(5);
+    LtmModel model(cfg);
+    model->eval();
+    model->decoder->start_at_prior();
+    test::TempDir dir;
+    save_weights(dir.path("rp.safetensors"), model);
+    const PriorModel pm = load_prior_model(dir.path("rp.safetensors"));
+    EXPECT_TRUE(pm.silenced && pm.torch_free());
+    const NeuralRender plain = render_prior(pm.cfg, at_one.r.pt, at_one.cam, at_one.opt);
+    const NeuralRender tensor = render_neural(model, at_one.r.pt, at_one.cam, at_one.opt);
+    const NeuralRender r = render_prior(at_one.pm.cfg, at_one.r.pt, at_one.cam, at_one.opt, Vec3f(1.f));
+    ASSERT_EQ(plain.n_decoded, tensor.n_decoded);
+    EXPECT_LT(worst_relative(tensor, plain), 1e-5) << "the tensor model, relative at the worst pixel";
+    EXPECT_LT(worst_relative(r, plain), 1e-5) << "the skip-1 fold's R";
+    EXPECT_GT(worst_relative(render_prior(at_one.pm.cfg, at_one.r.pt, at_one.cam, at_one.opt), plain), 1e-2) << "not the solved prior";
+}
+
 // The node field holds each scene point's own decoded value: a decoder that answers each query
 // row with its position gives every point its own position back (the group_order permutation
 // and its inverse), and a point set without the query columns is refused.
